@@ -1,0 +1,121 @@
+//! Mathematical cover, physical covers and manifold elements.
+//!
+//! * **Mathematical mesh** ([`MathMesh`]): a regular triangular mesh of size h over the
+//!   bounding box of all blocks. The *star* of a mesh node (its triangles) is a
+//!   mathematical cover.
+//! * **Physical covers** ([`PhysicalCover`]): each star intersected with each block falls
+//!   apart into connected pieces; each piece is a physical cover with its own unknowns.
+//! * **Manifold elements** ([`ManifoldElement`]): a mesh triangle ∩ a block, one element per
+//!   connected piece (any simple polygon, possibly non-convex).
+//!
+//! Weight functions are the triangle's linear shape functions (barycentric coordinates),
+//! a partition of unity; cover functions are constants, so
+//! `u(x) = Σ_k w_k(x) u_k` over the element's three covers and the strain is constant
+//! per element. The code keeps [`COVER_DOFS`] as the one place that fixes the cover
+//! function's order.
+
+mod build;
+pub mod mesh;
+
+pub use build::{discretise, DiscretiseError};
+pub use mesh::MathMesh;
+
+use crate::geometry::{cross, sub, Vec2};
+
+/// Unknowns per physical cover (constant cover functions: u_x, u_y).
+pub const COVER_DOFS: usize = 2;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhysicalCover {
+    /// Block the cover belongs to.
+    pub block: usize,
+    /// Mathematical mesh node whose star the cover is a piece of.
+    pub node: usize,
+    /// First global unknown (u_x; u_y is `dof + 1`), or `None` for covers of fixed blocks.
+    pub dof: Option<usize>,
+    /// Area of the cover's support (sum of its elements' areas), m².
+    pub support_area: f64,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct ManifoldElement {
+    pub block: usize,
+    /// Index of the mathematical mesh triangle.
+    pub triangle: usize,
+    /// Current positions of the triangle's three nodes as carried by this element
+    /// (they move with the material: node k moves with cover `covers[k]`). CCW.
+    pub nodes: [Vec2; 3],
+    /// Physical cover (index into `Discretisation::covers`) for each triangle node.
+    pub covers: [usize; 3],
+    /// Current element polygon (triangle ∩ block piece), CCW.
+    pub polygon: Vec<Vec2>,
+}
+
+impl ManifoldElement {
+    /// Weight functions (barycentric coordinates of `x` in the element's triangle).
+    pub fn weights(&self, x: Vec2) -> [f64; 3] {
+        barycentric(&self.nodes, x)
+    }
+    /// Gradients ∇w_k of the weight functions (constant over the element).
+    pub fn weight_gradients(&self) -> [Vec2; 3] {
+        let [a, b, c] = self.nodes;
+        let two_a = cross(sub(b, a), sub(c, a));
+        [
+            [(b[1] - c[1]) / two_a, (c[0] - b[0]) / two_a],
+            [(c[1] - a[1]) / two_a, (a[0] - c[0]) / two_a],
+            [(a[1] - b[1]) / two_a, (b[0] - a[0]) / two_a],
+        ]
+    }
+}
+
+/// Barycentric coordinates of `x` in triangle `t` (sum to 1; linear in x).
+pub fn barycentric(t: &[Vec2; 3], x: Vec2) -> [f64; 3] {
+    let [a, b, c] = *t;
+    let two_a = cross(sub(b, a), sub(c, a));
+    let w0 = cross(sub(b, x), sub(c, x)) / two_a;
+    let w1 = cross(sub(c, x), sub(a, x)) / two_a;
+    [w0, w1, 1.0 - w0 - w1]
+}
+
+/// A material point: an element and its (fixed) weights. Weights are invariant
+/// under the element's affine motion, so the point's displacement is
+/// `Σ_k w_k u_{covers[k]}` at every step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MaterialPoint {
+    pub element: usize,
+    pub weights: [f64; 3],
+}
+
+/// A vertex of a block's boundary, refined where the boundary crosses mesh edges,
+/// so that each boundary segment lies in one manifold element.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoundaryVertex {
+    /// Initial position.
+    pub x0: Vec2,
+    /// The vertex as a material point (any element that contains it).
+    pub at: MaterialPoint,
+    /// Whether this vertex is a corner of the block polygon (not a refinement point).
+    pub corner: bool,
+}
+
+/// A block's boundary: CCW loop of refined vertices; segment i goes from vertex i
+/// to vertex i+1 (mod n) and lies in element `segment_elements[i]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BlockBoundary {
+    pub vertices: Vec<BoundaryVertex>,
+    pub segment_elements: Vec<usize>,
+}
+
+/// The NMM discretisation of a whole model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Discretisation {
+    pub mesh: MathMesh,
+    pub covers: Vec<PhysicalCover>,
+    pub elements: Vec<ManifoldElement>,
+    /// Elements of each block.
+    pub block_elements: Vec<Vec<usize>>,
+    /// Boundary of each block.
+    pub boundaries: Vec<BlockBoundary>,
+    /// Number of global unknowns.
+    pub n_dofs: usize,
+}

@@ -1,0 +1,21 @@
+//! # nmm — the Numerical Manifold Method in two dimensions
+//!
+//! Deformable blocks in contact, with Coulomb friction integrated implicitly by
+//! return mapping inside a Newton-Raphson loop with the consistent (unsymmetric)
+//! tangent, and Newmark (β = 0.5, γ = 1) time integration.
+//!
+//! Dependencies point one way:
+//! `geometry ← cover ← assembly/contact ← simulation ← cli`.
+//! See `ARCHITECTURE.md` for the map of the tree.
+
+pub mod assembly;
+pub mod contact;
+pub mod cover;
+pub mod geometry;
+pub mod material;
+pub mod model;
+pub mod motion;
+pub mod output;
+pub mod simulation;
+pub mod solver;
+pub mod time;

@@ -1,0 +1,212 @@
+//! The validated model: what the rest of the program sees. Every name is
+//! resolved to an index, every polygon is counter-clockwise, every number is
+//! finite and in range.
+
+use crate::geometry::Vec2;
+
+/// A one-line input error: `"<place>: <reason>"`, e.g.
+/// `[[block]] "slider": key `vertices`: polygon self-intersects (edges 1 and 3)`.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct ModelError(pub String);
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Newmark β = 0.5, γ = 1.
+    Dynamic,
+    /// DDA's quasi-static analysis: the velocity is reset to zero at the start of every step.
+    Static,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FrictionAlgorithm {
+    /// Implicit return mapping with the consistent tangent (the default).
+    ReturnMapping,
+    /// The classical open–close treatment (overshoots the strength within a step).
+    Conventional,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Analysis {
+    pub mode: Mode,
+    pub dt: f64,
+    pub steps: usize,
+    pub gravity: Vec2,
+    pub friction: FrictionAlgorithm,
+    pub output_every: usize,
+    /// Extension: Newton iteration limit per step (default 25).
+    pub max_iterations: usize,
+    /// Extension: relative tolerance on the residual and on the increment (default 1e-9).
+    pub tolerance: f64,
+    /// Extension: how many times a step that does not converge may be halved (default 6).
+    pub max_step_cuts: usize,
+    /// Extension: penalty factor for `[[constraint]]`: point springs get
+    /// `factor × E_max` (N/m), edge springs `factor × E_max / h` (N/m² per m) (default 1e6).
+    pub constraint_penalty: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Plane {
+    Strain,
+    Stress,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub density: f64,
+    pub young: f64,
+    pub poisson: f64,
+    pub plane: Plane,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Block {
+    pub name: String,
+    /// Index into `Model::materials`.
+    pub material: usize,
+    /// Simple polygon, counter-clockwise (re-oriented if given clockwise).
+    pub vertices: Vec<Vec2>,
+    pub fixed: bool,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Interface {
+    /// `None`: the default for every pair without its own interface. Indices into `Model::blocks`.
+    pub blocks: Option<(usize, usize)>,
+    pub friction_angle: f64,
+    pub cohesion: f64,
+    pub normal_penalty: f64,
+    pub shear_penalty: f64,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum LoadKind {
+    /// Traction (Pa) on a segment of the block's boundary.
+    Edge { a: Vec2, b: Vec2, traction: Vec2 },
+    /// Point force (N per metre of thickness).
+    Point { p: Vec2, force: Vec2 },
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Load {
+    pub block: usize,
+    pub kind: LoadKind,
+}
+
+/// A prescribed displacement component as a function of time.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TimeFunction {
+    Constant(f64),
+    /// Rows `(t, value)`, strictly increasing t, linear in between, constant outside.
+    Table(Vec<(f64, f64)>),
+}
+
+impl TimeFunction {
+    pub fn eval(&self, t: f64) -> f64 {
+        match self {
+            TimeFunction::Constant(v) => *v,
+            TimeFunction::Table(rows) => interpolate(rows, t),
+        }
+    }
+}
+
+/// Piecewise-linear interpolation in rows `(t, v)` sorted by t; constant outside.
+pub fn interpolate(rows: &[(f64, f64)], t: f64) -> f64 {
+    match rows.len() {
+        0 => 0.0,
+        1 => rows[0].1,
+        _ => {
+            if t <= rows[0].0 {
+                return rows[0].1;
+            }
+            if t >= rows[rows.len() - 1].0 {
+                return rows[rows.len() - 1].1;
+            }
+            let i = rows.partition_point(|r| r.0 <= t).max(1) - 1;
+            let (t0, v0) = rows[i];
+            let (t1, v1) = rows[i + 1];
+            v0 + (v1 - v0) * (t - t0) / (t1 - t0)
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum ConstraintGeometry {
+    Edge { a: Vec2, b: Vec2 },
+    Point { p: Vec2 },
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Constraint {
+    pub block: usize,
+    pub geometry: ConstraintGeometry,
+    /// `None`: that component is free.
+    pub ux: Option<TimeFunction>,
+    pub uy: Option<TimeFunction>,
+}
+
+/// Base acceleration samples `(t, ax, ay)` (m/s², already scaled), strictly increasing t.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BaseMotion {
+    pub samples: Vec<[f64; 3]>,
+}
+
+impl BaseMotion {
+    /// Base acceleration at time t: linear between samples, zero outside the record.
+    pub fn accel(&self, t: f64) -> Vec2 {
+        let s = &self.samples;
+        if s.is_empty() || t < s[0][0] || t > s[s.len() - 1][0] {
+            return [0.0, 0.0];
+        }
+        let i = s.partition_point(|r| r[0] <= t);
+        if i == 0 {
+            return [s[0][1], s[0][2]];
+        }
+        if i >= s.len() {
+            let l = s[s.len() - 1];
+            return [l[1], l[2]];
+        }
+        let (a, b) = (s[i - 1], s[i]);
+        let f = (t - a[0]) / (b[0] - a[0]);
+        [a[1] + f * (b[1] - a[1]), a[2] + f * (b[2] - a[2])]
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum MonitorKind {
+    /// A material point, in block `block` (the first block that contains it).
+    Point { p: Vec2, block: usize },
+    /// Total contact force on the first block from the second.
+    Interface { first: usize, second: usize },
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Monitor {
+    pub name: String,
+    pub kind: MonitorKind,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Model {
+    pub analysis: Analysis,
+    /// Mathematical mesh size h (m).
+    pub cover_size: f64,
+    pub materials: Vec<Material>,
+    pub blocks: Vec<Block>,
+    pub interfaces: Vec<Interface>,
+    pub loads: Vec<Load>,
+    pub constraints: Vec<Constraint>,
+    pub base_motion: Option<BaseMotion>,
+    pub monitors: Vec<Monitor>,
+}
+
+impl Model {
+    /// The interface properties for a pair of blocks: the pair's own, else the default.
+    pub fn interface_for(&self, a: usize, b: usize) -> Option<&Interface> {
+        self.interfaces
+            .iter()
+            .find(|i| matches!(i.blocks, Some((x, y)) if (x == a && y == b) || (x == b && y == a)))
+            .or_else(|| self.interfaces.iter().find(|i| i.blocks.is_none()))
+    }
+}

@@ -4,7 +4,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "nmm", version, about = "Numerical Manifold Method for 2-D blocks in contact")]
+#[command(
+    name = "nmm",
+    version,
+    about = "Numerical Manifold Method for 2-D blocks in contact"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

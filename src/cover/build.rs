@@ -7,6 +7,9 @@ use crate::geometry::Vec2;
 pub struct DiscretiseError(pub String);
 
 /// Discretise blocks `(vertices CCW, fixed)` with a mathematical mesh of size `h`.
-pub fn discretise(_blocks: &[(Vec<Vec2>, bool)], _h: f64) -> Result<Discretisation, DiscretiseError> {
+pub fn discretise(
+    _blocks: &[(Vec<Vec2>, bool)],
+    _h: f64,
+) -> Result<Discretisation, DiscretiseError> {
     Err(DiscretiseError("not yet written".into()))
 }

@@ -57,7 +57,10 @@ pub struct Aabb {
 
 impl Aabb {
     pub fn empty() -> Self {
-        Aabb { min: [f64::INFINITY; 2], max: [f64::NEG_INFINITY; 2] }
+        Aabb {
+            min: [f64::INFINITY; 2],
+            max: [f64::NEG_INFINITY; 2],
+        }
     }
     pub fn of_points(pts: &[Vec2]) -> Self {
         let mut b = Aabb::empty();
@@ -77,10 +80,16 @@ impl Aabb {
         }
     }
     pub fn inflate(&self, d: f64) -> Aabb {
-        Aabb { min: [self.min[0] - d, self.min[1] - d], max: [self.max[0] + d, self.max[1] + d] }
+        Aabb {
+            min: [self.min[0] - d, self.min[1] - d],
+            max: [self.max[0] + d, self.max[1] + d],
+        }
     }
     pub fn overlaps(&self, o: &Aabb) -> bool {
-        self.min[0] <= o.max[0] && o.min[0] <= self.max[0] && self.min[1] <= o.max[1] && o.min[1] <= self.max[1]
+        self.min[0] <= o.max[0]
+            && o.min[0] <= self.max[0]
+            && self.min[1] <= o.max[1]
+            && o.min[1] <= self.max[1]
     }
     pub fn diagonal(&self) -> f64 {
         dist(self.min, self.max)

@@ -11,8 +11,12 @@ use std::path::Path;
 
 /// Read and validate a model file.
 pub fn load_model(path: &Path) -> Result<Model, ModelError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| ModelError(format!("{}: cannot read the model file: {e}", path.display())))?;
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        ModelError(format!(
+            "{}: cannot read the model file: {e}",
+            path.display()
+        ))
+    })?;
     let dir = path.parent().unwrap_or(Path::new("."));
     parse_model(&text, dir)
 }

@@ -5,6 +5,13 @@ use std::path::Path;
 /// record's own header applied; the user's `scale` is applied by the caller).
 /// `format`: `Some("csv" | "peer" | "knet")`, or `None` to infer from the file.
 /// `component`: which axis a single-component record drives (`"x"` or `"y"`).
-pub fn read_record(path: &Path, _format: Option<&str>, _component: &str) -> Result<Vec<[f64; 3]>, String> {
-    Err(format!("{}: record reading is not yet written", path.display()))
+pub fn read_record(
+    path: &Path,
+    _format: Option<&str>,
+    _component: &str,
+) -> Result<Vec<[f64; 3]>, String> {
+    Err(format!(
+        "{}: record reading is not yet written",
+        path.display()
+    ))
 }

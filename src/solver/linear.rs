@@ -1,0 +1,243 @@
+//! Direct sparse solvers behind one small trait, so that another backend
+//! (e.g. UMFPACK for very large unsymmetric systems) can be plugged in.
+//!
+//! The symbolic analysis (fill-reducing ordering, elimination tree) depends only
+//! on the pattern; it is kept and reused while the pattern is the same `Arc`
+//! (or an equal pattern), which is most of the saving on repeated solves.
+
+use super::sparse::{SparseMatrix, SparsePattern};
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, Lu, SymbolicLlt, SymbolicLu};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{MatMut, Side};
+use std::sync::Arc;
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    #[error("the system matrix is not positive definite (a block or cover is not restrained?)")]
+    NotPositiveDefinite,
+    #[error("the system matrix is singular")]
+    Singular,
+    #[error("linear solver failure: {0}")]
+    Other(String),
+}
+
+/// Factorise once, solve many times.
+pub trait LinearSolver {
+    /// Factorise `a` (reusing the symbolic analysis when the pattern is unchanged).
+    fn factorize(&mut self, a: &SparseMatrix) -> Result<(), SolveError>;
+    /// Solve A x = b in place (b becomes x) with the last factorisation.
+    fn solve_in_place(&self, b: &mut [f64]) -> Result<(), SolveError>;
+    /// How many symbolic analyses were done (for reports and tests).
+    fn symbolic_count(&self) -> usize;
+}
+
+fn views(a: &SparseMatrix) -> SparseColMatRef<'_, usize, f64> {
+    let p = &a.pattern;
+    let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx);
+    SparseColMatRef::new(sym, &a.values)
+}
+
+fn same_pattern(cached: &Option<Arc<SparsePattern>>, p: &Arc<SparsePattern>) -> bool {
+    match cached {
+        Some(c) => Arc::ptr_eq(c, p) || **c == **p,
+        None => false,
+    }
+}
+
+/// Sparse Cholesky LLᵀ (faer, AMD ordering) for symmetric positive-definite matrices.
+#[derive(Default)]
+pub struct FaerCholesky {
+    pattern: Option<Arc<SparsePattern>>,
+    symbolic: Option<SymbolicLlt<usize>>,
+    numeric: Option<Llt<usize, f64>>,
+    symbolic_count: usize,
+}
+
+impl LinearSolver for FaerCholesky {
+    fn factorize(&mut self, a: &SparseMatrix) -> Result<(), SolveError> {
+        let m = views(a);
+        if !same_pattern(&self.pattern, &a.pattern) || self.symbolic.is_none() {
+            let s = SymbolicLlt::try_new(m.symbolic(), Side::Lower)
+                .map_err(|e| SolveError::Other(format!("{e:?}")))?;
+            self.symbolic = Some(s);
+            self.pattern = Some(a.pattern.clone());
+            self.symbolic_count += 1;
+        }
+        let sym = self
+            .symbolic
+            .clone()
+            .expect("symbolic factorisation present");
+        self.numeric = Some(
+            Llt::try_new_with_symbolic(sym, m, Side::Lower)
+                .map_err(|_| SolveError::NotPositiveDefinite)?,
+        );
+        Ok(())
+    }
+    fn solve_in_place(&self, b: &mut [f64]) -> Result<(), SolveError> {
+        let f = self
+            .numeric
+            .as_ref()
+            .ok_or_else(|| SolveError::Other("solve before factorize".into()))?;
+        let n = b.len();
+        f.solve_in_place(MatMut::from_column_major_slice_mut(b, n, 1));
+        check_finite(b)
+    }
+    fn symbolic_count(&self) -> usize {
+        self.symbolic_count
+    }
+}
+
+/// Sparse LU (faer, COLAMD ordering, partial pivoting) for unsymmetric matrices.
+#[derive(Default)]
+pub struct FaerLu {
+    pattern: Option<Arc<SparsePattern>>,
+    symbolic: Option<SymbolicLu<usize>>,
+    numeric: Option<Lu<usize, f64>>,
+    symbolic_count: usize,
+}
+
+impl LinearSolver for FaerLu {
+    fn factorize(&mut self, a: &SparseMatrix) -> Result<(), SolveError> {
+        let m = views(a);
+        if !same_pattern(&self.pattern, &a.pattern) || self.symbolic.is_none() {
+            let s = SymbolicLu::try_new(m.symbolic())
+                .map_err(|e| SolveError::Other(format!("{e:?}")))?;
+            self.symbolic = Some(s);
+            self.pattern = Some(a.pattern.clone());
+            self.symbolic_count += 1;
+        }
+        let sym = self
+            .symbolic
+            .clone()
+            .expect("symbolic factorisation present");
+        self.numeric = Some(Lu::try_new_with_symbolic(sym, m).map_err(|_| SolveError::Singular)?);
+        Ok(())
+    }
+    fn solve_in_place(&self, b: &mut [f64]) -> Result<(), SolveError> {
+        let f = self
+            .numeric
+            .as_ref()
+            .ok_or_else(|| SolveError::Other("solve before factorize".into()))?;
+        let n = b.len();
+        f.solve_in_place(MatMut::from_column_major_slice_mut(b, n, 1));
+        check_finite(b)
+    }
+    fn symbolic_count(&self) -> usize {
+        self.symbolic_count
+    }
+}
+
+fn check_finite(x: &[f64]) -> Result<(), SolveError> {
+    if x.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(SolveError::Singular)
+    }
+}
+
+/// Cholesky when the matrix is symmetric, LU otherwise (the consistent friction
+/// tangent of sliding contacts is unsymmetric). Each keeps its own symbolic analysis.
+#[derive(Default)]
+pub struct AutoSolver {
+    pub cholesky: FaerCholesky,
+    pub lu: FaerLu,
+    use_lu: bool,
+}
+
+impl AutoSolver {
+    /// Factorise, choosing by the caller's knowledge of symmetry.
+    pub fn factorize_with(&mut self, a: &SparseMatrix, symmetric: bool) -> Result<(), SolveError> {
+        self.use_lu = !symmetric;
+        if symmetric {
+            self.cholesky.factorize(a)
+        } else {
+            self.lu.factorize(a)
+        }
+    }
+    /// Whether the last factorisation was LU.
+    pub fn used_lu(&self) -> bool {
+        self.use_lu
+    }
+}
+
+impl LinearSolver for AutoSolver {
+    fn factorize(&mut self, a: &SparseMatrix) -> Result<(), SolveError> {
+        let sym = a.is_symmetric(1e-13);
+        self.factorize_with(a, sym)
+    }
+    fn solve_in_place(&self, b: &mut [f64]) -> Result<(), SolveError> {
+        if self.use_lu {
+            self.lu.solve_in_place(b)
+        } else {
+            self.cholesky.solve_in_place(b)
+        }
+    }
+    fn symbolic_count(&self) -> usize {
+        self.cholesky.symbolic_count + self.lu.symbolic_count
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn laplacian(n: usize, skew: f64) -> SparseMatrix {
+        let groups: Vec<[usize; 2]> = (0..n - 1).map(|i| [i, i + 1]).collect();
+        let p = Arc::new(SparsePattern::from_groups(n, groups.iter().map(|g| &g[..])));
+        let mut a = SparseMatrix::zeros(p);
+        for i in 0..n {
+            a.add(i, i, 2.0);
+            if i + 1 < n {
+                a.add(i, i + 1, -1.0 + skew);
+                a.add(i + 1, i, -1.0 - skew);
+            }
+        }
+        a
+    }
+
+    fn residual(a: &SparseMatrix, x: &[f64], b: &[f64]) -> f64 {
+        let mut y = vec![0.0; x.len()];
+        a.mul_vec(x, &mut y);
+        y.iter()
+            .zip(b)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn cholesky_solves_and_reuses_symbolic() {
+        let a = laplacian(50, 0.0);
+        let b: Vec<f64> = (0..50).map(|i| (i as f64).sin()).collect();
+        let mut s = FaerCholesky::default();
+        s.factorize(&a).unwrap();
+        let mut x = b.clone();
+        s.solve_in_place(&mut x).unwrap();
+        assert!(residual(&a, &x, &b) < 1e-12);
+        let mut a2 = a.clone();
+        a2.values.iter_mut().for_each(|v| *v *= 2.0);
+        s.factorize(&a2).unwrap();
+        assert_eq!(s.symbolic_count(), 1);
+    }
+
+    #[test]
+    fn lu_solves_unsymmetric() {
+        let a = laplacian(40, 0.3);
+        assert!(!a.is_symmetric(1e-13));
+        let b: Vec<f64> = (0..40).map(|i| 1.0 + i as f64).collect();
+        let mut s = AutoSolver::default();
+        s.factorize(&a).unwrap();
+        assert!(s.used_lu());
+        let mut x = b.clone();
+        s.solve_in_place(&mut x).unwrap();
+        assert!(residual(&a, &x, &b) < 1e-10);
+    }
+
+    #[test]
+    fn indefinite_matrix_is_reported_not_panicking() {
+        let mut a = laplacian(5, 0.0);
+        a.values.iter_mut().for_each(|v| *v = -*v);
+        let mut s = FaerCholesky::default();
+        assert_eq!(s.factorize(&a), Err(SolveError::NotPositiveDefinite));
+    }
+}

@@ -1,0 +1,168 @@
+//! Compressed sparse column storage with a fixed pattern.
+//!
+//! The pattern stores both triangles (the Cholesky factorisation reads only the
+//! lower one); row indices are sorted and unique within each column.
+
+use std::sync::Arc;
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SparsePattern {
+    pub n: usize,
+    pub col_ptr: Vec<usize>,
+    pub row_idx: Vec<usize>,
+}
+
+impl SparsePattern {
+    /// The pattern of a matrix in which every dof of a group couples with every
+    /// other dof of the same group (an element's dofs, a contact's dofs, ...).
+    /// The diagonal is always present.
+    pub fn from_groups<'a>(n: usize, groups: impl Iterator<Item = &'a [usize]>) -> Self {
+        let mut cols: Vec<Vec<usize>> = (0..n).map(|i| vec![i]).collect();
+        for g in groups {
+            for &c in g {
+                let col = &mut cols[c];
+                col.extend_from_slice(g);
+            }
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        for mut col in cols {
+            col.sort_unstable();
+            col.dedup();
+            row_idx.extend_from_slice(&col);
+            col_ptr.push(row_idx.len());
+        }
+        SparsePattern {
+            n,
+            col_ptr,
+            row_idx,
+        }
+    }
+
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Position of entry (row, col) in the value array.
+    #[inline]
+    pub fn slot(&self, row: usize, col: usize) -> Option<usize> {
+        let (a, b) = (self.col_ptr[col], self.col_ptr[col + 1]);
+        self.row_idx[a..b].binary_search(&row).ok().map(|k| a + k)
+    }
+}
+
+/// Values over a shared pattern.
+#[derive(Debug, Clone)]
+pub struct SparseMatrix {
+    pub pattern: Arc<SparsePattern>,
+    pub values: Vec<f64>,
+}
+
+impl SparseMatrix {
+    pub fn zeros(pattern: Arc<SparsePattern>) -> Self {
+        let nnz = pattern.nnz();
+        SparseMatrix {
+            pattern,
+            values: vec![0.0; nnz],
+        }
+    }
+    pub fn n(&self) -> usize {
+        self.pattern.n
+    }
+    pub fn clear(&mut self) {
+        self.values.iter_mut().for_each(|v| *v = 0.0);
+    }
+    /// A(row, col) += v. The entry must be in the pattern.
+    #[inline]
+    pub fn add(&mut self, row: usize, col: usize, v: f64) {
+        let s = self
+            .pattern
+            .slot(row, col)
+            .unwrap_or_else(|| panic!("entry ({row}, {col}) is not in the sparsity pattern"));
+        self.values[s] += v;
+    }
+    /// A[dofs, dofs] += k, with k row-major `dofs.len()²`.
+    pub fn add_block(&mut self, dofs: &[usize], k: &[f64]) {
+        let m = dofs.len();
+        debug_assert_eq!(k.len(), m * m);
+        for (j, &cj) in dofs.iter().enumerate() {
+            let (a, b) = (self.pattern.col_ptr[cj], self.pattern.col_ptr[cj + 1]);
+            let rows = &self.pattern.row_idx[a..b];
+            for (i, &ri) in dofs.iter().enumerate() {
+                let v = k[i * m + j];
+                if v != 0.0 {
+                    let s = a + rows
+                        .binary_search(&ri)
+                        .expect("entry is not in the sparsity pattern");
+                    self.values[s] += v;
+                }
+            }
+        }
+    }
+    /// y = A x.
+    pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
+        y.iter_mut().for_each(|v| *v = 0.0);
+        let p = &self.pattern;
+        for (c, &xc) in x.iter().enumerate() {
+            if xc == 0.0 {
+                continue;
+            }
+            for s in p.col_ptr[c]..p.col_ptr[c + 1] {
+                y[p.row_idx[s]] += self.values[s] * xc;
+            }
+        }
+    }
+    /// Whether A equals its transpose to a relative tolerance.
+    pub fn is_symmetric(&self, rel_tol: f64) -> bool {
+        let p = &self.pattern;
+        let scale = self.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for c in 0..p.n {
+            for s in p.col_ptr[c]..p.col_ptr[c + 1] {
+                let r = p.row_idx[s];
+                if r <= c {
+                    continue;
+                }
+                let t = p.slot(c, r).map(|k| self.values[k]).unwrap_or(0.0);
+                if (self.values[s] - t).abs() > rel_tol * scale {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pattern_from_groups_is_sorted_unique_and_symmetric() {
+        let g1 = [0usize, 2, 3];
+        let g2 = [3usize, 4];
+        let p = SparsePattern::from_groups(5, [&g1[..], &g2[..]].into_iter());
+        assert_eq!(p.col_ptr, vec![0, 3, 4, 7, 11, 13]);
+        for c in 0..5 {
+            let col = &p.row_idx[p.col_ptr[c]..p.col_ptr[c + 1]];
+            assert!(col.windows(2).all(|w| w[0] < w[1]));
+            for &r in col {
+                assert!(p.slot(c, r).is_some());
+            }
+        }
+        assert!(p.slot(1, 4).is_none());
+    }
+
+    #[test]
+    fn add_block_and_mul_vec_match_dense() {
+        let g = [1usize, 3];
+        let p = Arc::new(SparsePattern::from_groups(4, std::iter::once(&g[..])));
+        let mut a = SparseMatrix::zeros(p);
+        a.add_block(&g, &[2.0, -1.0, -1.0, 3.0]);
+        a.add(0, 0, 5.0);
+        let mut y = vec![0.0; 4];
+        a.mul_vec(&[1.0, 2.0, 3.0, 4.0], &mut y);
+        assert_eq!(y, vec![5.0, 0.0, 0.0, 10.0]);
+        assert!(a.is_symmetric(1e-14));
+    }
+}

@@ -1,7 +1,10 @@
-//! The `nmm` command line: `run`, `check` (and later `plot`, `verify`).
+//! The `nmm` command line: `run`, `check`.
+use anyhow::Context;
 use clap::{Parser, Subcommand};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 #[derive(Parser)]
 #[command(
@@ -16,24 +19,35 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run a model and write its outputs into DIR.
+    /// Run a model and write its outputs (history.csv, VTK frames) into DIR.
     Run {
         model: PathBuf,
-        #[arg(long)]
+        #[arg(long, value_name = "DIR")]
         out: PathBuf,
+        /// Override [analysis] friction ("return-mapping" | "conventional").
+        #[arg(long)]
+        friction: Option<String>,
+        /// Do not write VTK frames.
+        #[arg(long)]
+        no_vtk: bool,
     },
-    /// Validate a model and print a summary without running it.
+    /// Validate a model and print a summary (blocks, covers, elements, unknowns) without running it.
     Check { model: PathBuf },
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { model, out } => run(&model, &out),
+        Command::Run {
+            model,
+            out,
+            friction,
+            no_vtk,
+        } => run(&model, &out, friction.as_deref(), !no_vtk),
         Command::Check { model } => check(&model),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             eprintln!("error: {}", one_line(&format!("{e:#}")));
             ExitCode::FAILURE
@@ -46,13 +60,92 @@ fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
-fn check(path: &std::path::Path) -> anyhow::Result<()> {
+fn check(path: &Path) -> anyhow::Result<ExitCode> {
     let model = nmm::model::load_model(path)?;
-    println!("blocks: {}", model.blocks.len());
-    Ok(())
+    let sim = nmm::simulation::Simulation::new(model).map_err(anyhow::Error::msg)?;
+    let m = &sim.model;
+    println!("model: {}", path.display());
+    println!(
+        "blocks: {} ({} fixed)",
+        m.blocks.len(),
+        m.blocks.iter().filter(|b| b.fixed).count()
+    );
+    println!("physical covers: {}", sim.disc.covers.len());
+    println!("manifold elements: {}", sim.disc.elements.len());
+    println!("unknowns: {}", sim.n_dofs());
+    println!(
+        "analysis: {:?}, dt = {} s, {} steps, friction {:?}",
+        m.analysis.mode, m.analysis.dt, m.analysis.steps, m.analysis.friction
+    );
+    for (i, b) in m.blocks.iter().enumerate() {
+        let covers = sim.disc.covers.iter().filter(|c| c.block == i).count();
+        println!(
+            "  block \"{}\": {} covers, {} elements{}",
+            b.name,
+            covers,
+            sim.disc.block_elements[i].len(),
+            if b.fixed { ", fixed" } else { "" }
+        );
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
-fn run(path: &std::path::Path, _out: &std::path::Path) -> anyhow::Result<()> {
-    let _model = nmm::model::load_model(path)?;
-    anyhow::bail!("running is not yet written")
+fn run(path: &Path, out: &Path, friction: Option<&str>, vtk: bool) -> anyhow::Result<ExitCode> {
+    let mut model = nmm::model::load_model(path)?;
+    if let Some(f) = friction {
+        model.analysis.friction = match f {
+            "return-mapping" => nmm::model::FrictionAlgorithm::ReturnMapping,
+            "conventional" => nmm::model::FrictionAlgorithm::Conventional,
+            other => anyhow::bail!(
+                "--friction: expected \"return-mapping\" or \"conventional\", got \"{other}\""
+            ),
+        };
+    }
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        // A second Ctrl-C while stopping falls back to the default (immediate exit).
+        let _ = ctrlc::set_handler(move || {
+            if stop.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+        });
+    }
+    let opts = nmm::simulation::RunOptions {
+        progress: true,
+        interrupt: Some(stop),
+        vtk,
+    };
+    let summary =
+        nmm::simulation::run(model, out, &opts).with_context(|| format!("{}", path.display()))?;
+    let t = summary.timings;
+    let its = &summary.iterations;
+    let mut sorted = its.clone();
+    sorted.sort_unstable();
+    let median = sorted.get(sorted.len() / 2).copied().unwrap_or(0);
+    eprintln!(
+        "{} steps to t = {:.6} s, {} unknowns; Newton iterations median {median}, max {}; {} step(s) cut",
+        summary.steps,
+        summary.time,
+        summary.n_dofs,
+        sorted.last().copied().unwrap_or(0),
+        summary.cut_steps.len()
+    );
+    eprintln!(
+        "time: cover {:.3} s, assembly {:.3} s, contact {:.3} s, factorisation {:.3} s, solve {:.3} s",
+        t.cover.as_secs_f64(),
+        t.stages.assembly.as_secs_f64(),
+        t.stages.contact.as_secs_f64(),
+        t.stages.factorisation.as_secs_f64(),
+        t.stages.solve.as_secs_f64()
+    );
+    if summary.interrupted {
+        eprintln!(
+            "interrupted at step {}: outputs so far are in {}",
+            summary.steps,
+            out.display()
+        );
+        return Ok(ExitCode::from(130));
+    }
+    Ok(ExitCode::SUCCESS)
 }

@@ -11,6 +11,7 @@
 pub mod assembly;
 pub mod contact;
 pub mod cover;
+pub mod generate;
 pub mod geometry;
 pub mod material;
 pub mod model;

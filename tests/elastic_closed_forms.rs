@@ -57,12 +57,18 @@ point = [{xm}, {y1}]
 #[test]
 fn self_weight_column_top_displacement() {
     let errs: Vec<f64> = [20, 40, 80].iter().map(|&n| column_top_error(n)).collect();
-    eprintln!("self-weight column: relative errors at h = L/20, L/40, L/80: {errs:?}, orders {:?}", orders(&errs));
+    eprintln!(
+        "self-weight column: relative errors at h = L/20, L/40, L/80: {errs:?}, orders {:?}",
+        orders(&errs)
+    );
     assert!(errs[0] < 0.01, "h = L/20: {:.3e}", errs[0]);
     // linear covers: the error falls at least like h (observed order ≥ 1) until it
     // reaches the penalty/inertia floor of ~1e-7.
     for (i, w) in errs.windows(2).enumerate() {
-        assert!(w[1] <= w[0] / 1.9 || w[1] < 1e-6, "refinement {i}: {errs:?}");
+        assert!(
+            w[1] <= w[0] / 1.9 || w[1] < 1e-6,
+            "refinement {i}: {errs:?}"
+        );
     }
 }
 
@@ -112,9 +118,18 @@ fn cantilever_tip_deflection_converges_to_timoshenko() {
     let i = d.powi(3) / 12.0;
     let g = e / (2.0 * (1.0 + nu));
     let reference = p * l.powi(3) / (3.0 * e * i) + p * l / (5.0 / 6.0 * g * d);
-    let tips: Vec<f64> = [2.0, 4.0, 8.0, 16.0].iter().map(|n| cantilever_tip(d / n)).collect();
-    let errs: Vec<f64> = tips.iter().map(|t| (t - reference).abs() / reference).collect();
-    eprintln!("cantilever: reference {reference:.6e}, tips {tips:?}, errors {errs:?}, orders {:?}", orders(&errs));
+    let tips: Vec<f64> = [2.0, 4.0, 8.0, 16.0]
+        .iter()
+        .map(|n| cantilever_tip(d / n))
+        .collect();
+    let errs: Vec<f64> = tips
+        .iter()
+        .map(|t| (t - reference).abs() / reference)
+        .collect();
+    eprintln!(
+        "cantilever: reference {reference:.6e}, tips {tips:?}, errors {errs:?}, orders {:?}",
+        orders(&errs)
+    );
     // constant-strain elements are stiff in bending: the tip deflection grows toward
     // the reference as h falls, with observed order close to 2 on the coarse meshes.
     assert!(tips.windows(2).all(|w| w[1] > w[0]), "{tips:?}");
@@ -199,7 +214,10 @@ point = [{l}, 0.25]
     let mut hist = vec![(0.0, -u_static)];
     while !sim.finished() {
         sim.advance().unwrap();
-        hist.push((sim.time, nmm::simulation::monitor_values(&sim)[0] - u_static));
+        hist.push((
+            sim.time,
+            nmm::simulation::monitor_values(&sim)[0] - u_static,
+        ));
     }
     // upward zero crossings, linearly interpolated
     let ups: Vec<f64> = hist
@@ -210,8 +228,15 @@ point = [{l}, 0.25]
     assert!(ups.len() >= 3, "{ups:?}");
     let measured = ups[2] - ups[1];
     let (_, elongation) = nmm::time::amplification(2.0 * std::f64::consts::PI / 40.0);
-    eprintln!("bar: T = {period:.6e}, measured {measured:.6e} ({:+.3}%), scheme elongation {:+.3}%", (measured / period - 1.0) * 100.0, (elongation - 1.0) * 100.0);
-    assert!((measured / period - 1.0).abs() < 0.01, "{measured} vs {period}");
+    eprintln!(
+        "bar: T = {period:.6e}, measured {measured:.6e} ({:+.3}%), scheme elongation {:+.3}%",
+        (measured / period - 1.0) * 100.0,
+        (elongation - 1.0) * 100.0
+    );
+    assert!(
+        (measured / period - 1.0).abs() < 0.01,
+        "{measured} vs {period}"
+    );
 }
 
 /// Several blocks in one model: each has its own covers, the fixed one has no
@@ -268,7 +293,10 @@ point = [1.5, 0.5]
         assert!(!covers.is_empty());
         for &e in &sim.disc.block_elements[b] {
             for &c in &sim.disc.elements[e].covers {
-                assert_eq!(sim.disc.covers[c].block, b, "element of block {b} uses a cover of another block");
+                assert_eq!(
+                    sim.disc.covers[c].block, b,
+                    "element of block {b} uses a cover of another block"
+                );
             }
         }
         if b == 0 {

@@ -23,7 +23,10 @@ fn rotated_patch(angle: f64, h: f64, offset: [f64; 2]) {
         let (a, b) = (pts[i], pts[(i + 1) % 4]);
         let len = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
         let n = [(b[1] - a[1]) / len, -(b[0] - a[0]) / len]; // outward for CCW
-        let t = [sigma[0] * n[0] + sigma[2] * n[1], sigma[2] * n[0] + sigma[1] * n[1]];
+        let t = [
+            sigma[0] * n[0] + sigma[2] * n[1],
+            sigma[2] * n[0] + sigma[1] * n[1],
+        ];
         loads += &format!(
             "[[load]]\nblock = \"b\"\nedge = {}\ntraction = [{:.17e}, {:.17e}]\n",
             poly(&[a, b]),
@@ -67,17 +70,27 @@ uy = 0.0
     );
     let sim = run(&text);
     // exact strain (plane stress)
-    let eps = [(sigma[0] - nu * sigma[1]) / e, (sigma[1] - nu * sigma[0]) / e, 2.0 * (1.0 + nu) * sigma[2] / e];
+    let eps = [
+        (sigma[0] - nu * sigma[1]) / e,
+        (sigma[1] - nu * sigma[0]) / e,
+        2.0 * (1.0 + nu) * sigma[2] / e,
+    ];
     let smax = sigma.iter().fold(0.0f64, |m, s| m.max(s.abs()));
     for (i, s) in sim.stress.iter().enumerate() {
         for k in 0..3 {
-            assert!((s[k] - sigma[k]).abs() < 1e-8 * smax, "angle {angle} h {h}: element {i} stress {s:?}");
+            assert!(
+                (s[k] - sigma[k]).abs() < 1e-8 * smax,
+                "angle {angle} h {h}: element {i} stress {s:?}"
+            );
         }
     }
     // displacement: u(x) = ε·(x − a) + ω (−(y − a_y), x − a_x) with u(a) = 0 and u_y(b) = 0
     let lin = |x: Vec2, om: f64| -> Vec2 {
         let d = [x[0] - pa[0], x[1] - pa[1]];
-        [eps[0] * d[0] + 0.5 * eps[2] * d[1] - om * d[1], 0.5 * eps[2] * d[0] + eps[1] * d[1] + om * d[0]]
+        [
+            eps[0] * d[0] + 0.5 * eps[2] * d[1] - om * d[1],
+            0.5 * eps[2] * d[0] + eps[1] * d[1] + om * d[0],
+        ]
     };
     let om = -lin(pb, 0.0)[1] / (pb[0] - pa[0]);
     let umax = lin(pts[2], om)[0].abs().max(lin(pts[2], om)[1].abs());
@@ -104,7 +117,13 @@ uy = 0.0
 
 #[test]
 fn rotated_blocks_reproduce_uniform_stress_and_linear_displacement() {
-    for (angle, h) in [(0.0, 0.17), (13.0, 0.1), (37.0, 0.23), (61.0, 0.07), (90.0, 0.13)] {
+    for (angle, h) in [
+        (0.0, 0.17),
+        (13.0, 0.1),
+        (37.0, 0.23),
+        (61.0, 0.07),
+        (90.0, 0.13),
+    ] {
         rotated_patch(angle, h, [0.0123, 0.0456]);
     }
 }
@@ -153,11 +172,19 @@ uy = 0.0
     let mp = sim.disc.locate(0, [x0 + w, y0 + 0.5 * ht]).unwrap();
     sim.advance().unwrap();
     for s in &sim.stress {
-        assert!((s[0] - sx).abs() < 1e-8 * sx && s[1].abs() < 1e-8 * sx && s[2].abs() < 1e-8 * sx, "{s:?}");
+        assert!(
+            (s[0] - sx).abs() < 1e-8 * sx && s[1].abs() < 1e-8 * sx && s[2].abs() < 1e-8 * sx,
+            "{s:?}"
+        );
     }
     // penalty stretch of the left roller: t / p with p = 1e6 E / h
     let offset = -sx / (1e6 * e / h);
     let want_right = sx / e * w + offset;
     let u = sim.displacement_at(&mp);
-    assert!((u[0] - want_right).abs() < 1e-8 * want_right.abs(), "{} vs {}", u[0], want_right);
+    assert!(
+        (u[0] - want_right).abs() < 1e-8 * want_right.abs(),
+        "{} vs {}",
+        u[0],
+        want_right
+    );
 }

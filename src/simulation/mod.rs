@@ -267,6 +267,21 @@ impl Simulation {
         })
     }
 
+    /// The linear part of the next step's system (L, F) on the current state, with
+    /// the sparsity pattern of the current contact set: for benchmarks and tests.
+    pub fn linear_system(&mut self) -> (SparseMatrix, Vec<f64>) {
+        let dt = self.model.analysis.dt;
+        let v_n = match self.model.analysis.mode {
+            Mode::Static => vec![0.0; self.n_dofs()],
+            Mode::Dynamic => self.v.clone(),
+        };
+        let pattern = self.pattern_for_step();
+        let mut l = SparseMatrix::zeros(pattern);
+        let mut f = vec![0.0; self.n_dofs()];
+        self.assemble_linear(dt, self.time + dt, &v_n, &mut l, &mut f);
+        (l, f)
+    }
+
     /// Contact search distance: three times the largest displacement of the last
     /// step, and at least 2% of the mesh size.
     fn search_distance(&self) -> f64 {

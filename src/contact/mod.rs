@@ -1,1 +1,26 @@
-//! (to be written)
+//! Contact between blocks: broad phase, vertex–edge detection and friction laws.
+//!
+//! This module owns the *pure* parts of contact, each usable and tested alone:
+//! * [`broad`]: which blocks may touch (sweep and prune on bounding boxes);
+//! * [`narrow`]: which vertex of one boundary polyline touches which segment of
+//!   another, with the signed gap (negative = penetration), the outward normal of
+//!   the segment and its tangent;
+//! * [`friction`]: the penalty normal law and Coulomb friction, by implicit
+//!   return mapping (with the consistent, unsymmetric tangent) or by the
+//!   conventional DDA rule, as pure functions of numbers;
+//! * [`generate`]: seeded geometry generators for benchmarks and tests.
+//!
+//! Sign conventions shared by all parts: `g_N < 0` is penetration,
+//! `t_N = p_N g_N ≤ 0` is compression, normals point out of the block that owns
+//! the segment. The kinematics on the NMM covers and the contact set carried
+//! over Newton iterations are built on top of these parts.
+
+pub mod broad;
+pub mod friction;
+pub mod generate;
+pub mod narrow;
+
+pub use broad::sweep_and_prune;
+pub use friction::{commit, conventional, evaluate, return_mapping, ContactStatus, FrictionParams, LawResponse, ShearHistory};
+pub use generate::brick_wall;
+pub use narrow::{corner_flags, vertex_edge_contacts, vertex_edge_contacts_with, NarrowParams, VertexEdge};

@@ -1,0 +1,424 @@
+//! Penalty contact laws with Coulomb friction: pure functions of numbers.
+//!
+//! This module owns the *constitutive* part of contact: given the committed
+//! shear history of one contact and the current kinematic quantities, it
+//! returns the normal and shear forces, their derivatives (the tangent used by
+//! Newton-Raphson) and the new trial state. It knows nothing of geometry or of
+//! covers; kinematics (how `g_N`, `Δg_S` depend on the unknowns) lives elsewhere.
+//!
+//! # Sign conventions and symbols
+//! * `g_N` (`gn`): signed normal gap; **negative = penetration**.
+//! * `t_N` (`tn`): normal force, `t_N = p_N g_N` if `g_N < 0`, else `0`.
+//!   Hence `t_N ≤ 0` always (compression); there is never a tensile normal force.
+//! * `Δg_S` (`dgs`): shear displacement increment of the current step (relative
+//!   tangential motion since the last converged state).
+//! * `g_S^e` (`ge`): elastic shear gap; `t_S = p_S g_S^e` (`ts`).
+//! * `Δγ` (`slip`): signed plastic slip of the step, `Δg_S = Δ(g_S^e) + Δγ`,
+//!   i.e. `slip = Δg_S − (g_S^e − g_S^e|ₙ)`.
+//! * Strength: `S = |t_N| tan φ + c`, with `c` the cohesion as a *force*
+//!   (cohesion stress × tributary length, N/m). Yield function `f = |t_S| − S`.
+//!
+//! Forces are per metre of thickness (N/m), penalties in N/m per m of gap.
+//!
+//! # Return mapping ([`return_mapping`], the method of the paper)
+//! Evaluated at every Newton iterate from the *committed* state (step `n`):
+//! * open (`g_N ≥ 0`): `t_N = t_S = 0`, zero tangent, `g_S^e` reset to 0;
+//! * trial: `g_S^e,tr = g_S^e|ₙ + Δg_S`, `t_S^tr = p_S g_S^e,tr`;
+//! * stick if `|t_S^tr| < S`: `t_S = t_S^tr`, tangent `∂t_S/∂g_S = p_S`, `∂t_S/∂g_N = 0`;
+//! * slide otherwise: `t_S = sgn(t_S^tr) S`, `g_S^e = t_S / p_S`,
+//!   `Δγ = sgn(t_S^tr) (|t_S^tr| − S)/p_S`, consistent tangent
+//!   `∂t_S/∂g_N = −sgn(t_S^tr) p_N tan φ` (because `|t_N| = −p_N g_N`),
+//!   `∂t_S/∂g_S = 0` — unsymmetric.
+//!
+//! In both branches `∂t_N/∂g_N = p_N` (closed) and `∂t_N/∂g_S = 0`.
+//! The shear force never exceeds the strength of the *current* normal force.
+//!
+//! # Conventional rule ([`conventional`], classical DDA/NMM open–close, for comparison)
+//! The contact mode (stick or slide) is frozen during a step and taken from the
+//! committed state; only the end-of-step check ([`commit`]) changes it:
+//! * committed `Open` or `Stick`: the shear spring is elastic for the whole step,
+//!   `t_S = p_S (g_S^e|ₙ + Δg_S)`, tangent `p_S`, **no limit**;
+//! * committed `Slide` with direction `s = slide_sign`: the shear force is the
+//!   friction force of the **last committed** normal force,
+//!   `t_S = s (|t_N|ₙ tan φ + c)`, tangent `∂t_S/∂g_N = ∂t_S/∂g_S = 0`;
+//!   if the increment reverses the slide direction (`s Δg_S < 0`) the contact
+//!   returns to stick and is elastic from `g_S^e|ₙ`;
+//! * commit: if an elastic (stick) contact ends the step with `|t_S| ≥ S(t_N)`,
+//!   it is switched to `Slide` *for the next step*, with `slide_sign = sgn t_S`
+//!   and `g_S^e = slide_sign·S/p_S`.
+//!
+//! ## Why the conventional rule overshoots
+//! Within the step in which the strength is first exceeded, the converged
+//! shear force is the elastic one, `p_S (g_S^e|ₙ + Δg_S) > S`: the excess is
+//! neither returned to the yield surface nor redistributed to the rest of the
+//! system in that step; it is only "pulled back" at the start of the next step,
+//! when the mode has become `Slide`. Moreover, while sliding, the friction force
+//! uses the normal force of the previous step, so it lags any change of `t_N`.
+//! The return mapping projects onto `|t_S| = S(t_N)` inside the Newton loop,
+//! with the current `t_N`, and so never overshoots.
+
+use crate::model::FrictionAlgorithm;
+
+/// Material constants of one contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrictionParams {
+    /// Normal penalty `p_N` (N/m per m).
+    pub pn: f64,
+    /// Shear penalty `p_S` (N/m per m).
+    pub ps: f64,
+    /// `tan φ`.
+    pub tan_phi: f64,
+    /// Cohesion as a force, N/m: cohesion stress × tributary length.
+    pub cohesion: f64,
+}
+
+impl FrictionParams {
+    /// Shear strength `S = |t_N| tan φ + c` for the normal force `tn` (≤ 0).
+    #[inline]
+    pub fn strength(&self, tn: f64) -> f64 {
+        tn.abs() * self.tan_phi + self.cohesion
+    }
+}
+
+/// State of a contact.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ContactStatus {
+    /// `g_N ≥ 0`: no force.
+    #[default]
+    Open,
+    /// Closed, elastic shear spring.
+    Stick,
+    /// Closed, shear force on the Coulomb limit.
+    Slide,
+}
+
+/// Committed (converged) shear history of one contact.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ShearHistory {
+    /// Elastic shear gap `g_S^e`.
+    pub ge: f64,
+    pub status: ContactStatus,
+    /// Last committed normal force `t_N` (≤ 0).
+    pub tn: f64,
+    /// Direction of sliding (±1) when `status == Slide`, else 0.
+    pub slide_sign: f64,
+}
+
+/// Forces, tangent and trial state returned by a law.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LawResponse {
+    pub tn: f64,
+    pub ts: f64,
+    pub dtn_dgn: f64,
+    pub dtn_dgs: f64,
+    pub dts_dgn: f64,
+    pub dts_dgs: f64,
+    pub status: ContactStatus,
+    /// Trial elastic shear gap `g_S^e`.
+    pub ge: f64,
+    /// Signed slip `Δγ` of the step.
+    pub slip: f64,
+}
+
+impl LawResponse {
+    fn open() -> Self {
+        LawResponse {
+            tn: 0.0,
+            ts: 0.0,
+            dtn_dgn: 0.0,
+            dtn_dgs: 0.0,
+            dts_dgn: 0.0,
+            dts_dgs: 0.0,
+            status: ContactStatus::Open,
+            ge: 0.0,
+            slip: 0.0,
+        }
+    }
+}
+
+/// Sign with `sgn(0) = +1` (only reached when the force is zero anyway).
+#[inline]
+fn sgn(x: f64) -> f64 {
+    if x < 0.0 {
+        -1.0
+    } else {
+        1.0
+    }
+}
+
+/// Elastic (stick) response from the committed elastic gap.
+fn stick(p: &FrictionParams, h: &ShearHistory, tn: f64, dgs: f64) -> LawResponse {
+    let ge = h.ge + dgs;
+    LawResponse {
+        tn,
+        ts: p.ps * ge,
+        dtn_dgn: p.pn,
+        dtn_dgs: 0.0,
+        dts_dgn: 0.0,
+        dts_dgs: p.ps,
+        status: ContactStatus::Stick,
+        ge,
+        slip: 0.0,
+    }
+}
+
+/// Implicit return mapping (see the module docs).
+pub fn return_mapping(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> LawResponse {
+    if gn >= 0.0 {
+        return LawResponse::open();
+    }
+    let tn = p.pn * gn;
+    let strength = p.strength(tn);
+    let trial = p.ps * (h.ge + dgs);
+    if trial.abs() < strength {
+        return stick(p, h, tn, dgs);
+    }
+    let s = sgn(trial);
+    let ts = s * strength;
+    LawResponse {
+        tn,
+        ts,
+        dtn_dgn: p.pn,
+        dtn_dgs: 0.0,
+        dts_dgn: -s * p.pn * p.tan_phi,
+        dts_dgs: 0.0,
+        status: ContactStatus::Slide,
+        ge: ts / p.ps,
+        slip: s * (trial.abs() - strength) / p.ps,
+    }
+}
+
+/// Conventional open–close rule (see the module docs).
+pub fn conventional(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> LawResponse {
+    if gn >= 0.0 {
+        return LawResponse::open();
+    }
+    let tn = p.pn * gn;
+    match h.status {
+        ContactStatus::Open | ContactStatus::Stick => stick(p, h, tn, dgs),
+        ContactStatus::Slide => {
+            let s = if h.slide_sign == 0.0 { 1.0 } else { sgn(h.slide_sign) };
+            if s * dgs < 0.0 {
+                // Reversal: back to the elastic spring.
+                return stick(p, h, tn, dgs);
+            }
+            let ts = s * p.strength(h.tn);
+            let ge = ts / p.ps;
+            LawResponse {
+                tn,
+                ts,
+                dtn_dgn: p.pn,
+                dtn_dgs: 0.0,
+                dts_dgn: 0.0,
+                dts_dgs: 0.0,
+                status: ContactStatus::Slide,
+                ge,
+                slip: dgs - (ge - h.ge),
+            }
+        }
+    }
+}
+
+/// Evaluate the law selected by `alg`.
+pub fn evaluate(alg: FrictionAlgorithm, p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> LawResponse {
+    match alg {
+        FrictionAlgorithm::ReturnMapping => return_mapping(p, h, gn, dgs),
+        FrictionAlgorithm::Conventional => conventional(p, h, gn, dgs),
+    }
+}
+
+/// The history to keep once the step has converged with response `r`.
+///
+/// Return mapping: the response state is taken as it is. Conventional: an
+/// elastic contact whose force reached the strength `S(r.tn)` is switched to
+/// `Slide` for the next step (its force in this step stays as computed: the
+/// overshoot), with `g_S^e = sgn(t_S) S / p_S`.
+pub fn commit(alg: FrictionAlgorithm, p: &FrictionParams, h: &ShearHistory, r: &LawResponse) -> ShearHistory {
+    match r.status {
+        ContactStatus::Open => ShearHistory::default(),
+        ContactStatus::Slide => ShearHistory {
+            ge: r.ge,
+            status: ContactStatus::Slide,
+            tn: r.tn,
+            slide_sign: match alg {
+                FrictionAlgorithm::ReturnMapping => sgn(r.ts),
+                FrictionAlgorithm::Conventional => {
+                    if h.slide_sign == 0.0 {
+                        sgn(r.ts)
+                    } else {
+                        sgn(h.slide_sign)
+                    }
+                }
+            },
+        },
+        ContactStatus::Stick => {
+            let strength = p.strength(r.tn);
+            if alg == FrictionAlgorithm::Conventional && r.ts.abs() >= strength {
+                let s = sgn(r.ts);
+                ShearHistory { ge: s * strength / p.ps, status: ContactStatus::Slide, tn: r.tn, slide_sign: s }
+            } else {
+                ShearHistory { ge: r.ge, status: ContactStatus::Stick, tn: r.tn, slide_sign: 0.0 }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    const P: FrictionParams = FrictionParams { pn: 1.0e11, ps: 1.0e9, tan_phi: 0.577_350_269_189_625_8, cohesion: 0.0 };
+
+    fn committed(ge: f64, status: ContactStatus, tn: f64, slide_sign: f64) -> ShearHistory {
+        ShearHistory { ge, status, tn, slide_sign }
+    }
+
+    #[test]
+    fn open_contact_has_no_force_and_resets_elastic_gap() {
+        let h = committed(1e-4, ContactStatus::Stick, -1e6, 0.0);
+        for law in [return_mapping, conventional] {
+            let r = law(&P, &h, 1e-6, 3e-4);
+            assert_eq!(r.status, ContactStatus::Open);
+            assert_eq!((r.tn, r.ts, r.ge), (0.0, 0.0, 0.0));
+            assert_eq!((r.dtn_dgn, r.dtn_dgs, r.dts_dgn, r.dts_dgs), (0.0, 0.0, 0.0, 0.0));
+            // g_N = 0 exactly counts as open.
+            assert_eq!(law(&P, &h, 0.0, 3e-4).status, ContactStatus::Open);
+        }
+    }
+
+    #[test]
+    fn no_tensile_normal_force() {
+        let h = ShearHistory::default();
+        for gn in [-1e-3, -1e-8, 0.0, 1e-8, 1.0] {
+            for law in [return_mapping, conventional] {
+                assert!(law(&P, &h, gn, 0.0).tn <= 0.0);
+            }
+        }
+        assert_relative_eq!(return_mapping(&P, &h, -1e-5, 0.0).tn, -1e6);
+    }
+
+    #[test]
+    fn return_mapping_stick_closed_form() {
+        let h = committed(2e-4, ContactStatus::Stick, -1e6, 0.0);
+        let r = return_mapping(&P, &h, -1e-5, 1e-4); // t_N = −1 MPa·m, S = 577 kN/m
+        assert_eq!(r.status, ContactStatus::Stick);
+        assert_relative_eq!(r.ts, 3e5, max_relative = 1e-14);
+        assert_relative_eq!(r.ge, 3e-4, max_relative = 1e-14);
+        assert_eq!((r.dtn_dgn, r.dts_dgn, r.dts_dgs), (P.pn, 0.0, P.ps));
+        assert_eq!(r.slip, 0.0);
+    }
+
+    #[test]
+    fn return_mapping_slide_closed_form_both_directions() {
+        let h = committed(0.0, ContactStatus::Stick, -1e6, 0.0);
+        let s = 1e6 * P.tan_phi;
+        for dir in [1.0, -1.0] {
+            let r = return_mapping(&P, &h, -1e-5, dir * 1e-3); // trial 1e6 > S
+            assert_eq!(r.status, ContactStatus::Slide);
+            assert_relative_eq!(r.ts, dir * s, max_relative = 1e-14);
+            assert_relative_eq!(r.ge, dir * s / P.ps, max_relative = 1e-14);
+            assert_relative_eq!(r.slip, dir * (1e6 - s) / P.ps, max_relative = 1e-12);
+            assert_relative_eq!(r.dts_dgn, -dir * P.pn * P.tan_phi, max_relative = 1e-14);
+            assert_eq!(r.dts_dgs, 0.0);
+            // Additive split: Δg_S = Δg_S^e + Δγ.
+            assert_relative_eq!(r.ge - h.ge + r.slip, dir * 1e-3, max_relative = 1e-12);
+        }
+    }
+
+    #[test]
+    fn cohesion_adds_to_strength() {
+        let p = FrictionParams { cohesion: 2e5, ..P };
+        let h = ShearHistory::default();
+        // trial 7e5 < 1e6 tanφ + 2e5 = 777 kN/m: stick (it would slide without cohesion).
+        assert_eq!(return_mapping(&p, &h, -1e-5, 7e-4).status, ContactStatus::Stick);
+        assert_eq!(return_mapping(&P, &h, -1e-5, 7e-4).status, ContactStatus::Slide);
+        let r = return_mapping(&p, &h, -1e-5, 1e-3);
+        assert_relative_eq!(r.ts, 1e6 * P.tan_phi + 2e5, max_relative = 1e-14);
+        // The consistent tangent does not depend on c.
+        assert_relative_eq!(r.dts_dgn, -P.pn * P.tan_phi, max_relative = 1e-14);
+        // Conventional slide uses the committed force plus cohesion.
+        let hs = committed(0.0, ContactStatus::Slide, -2e6, 1.0);
+        assert_relative_eq!(conventional(&p, &hs, -1e-5, 1e-4).ts, 2e6 * P.tan_phi + 2e5, max_relative = 1e-14);
+    }
+
+    #[test]
+    fn conventional_branches_closed_form() {
+        // Stick: elastic without limit, even far above the strength.
+        let h = committed(1e-4, ContactStatus::Stick, -1e6, 0.0);
+        let r = conventional(&P, &h, -1e-5, 9e-4);
+        assert_eq!(r.status, ContactStatus::Stick);
+        assert_relative_eq!(r.ts, 1e6, max_relative = 1e-14);
+        assert_eq!((r.dts_dgn, r.dts_dgs), (0.0, P.ps));
+        // Slide: the force of the last committed t_N, not the current one, zero tangent.
+        let h = committed(-3e-4, ContactStatus::Slide, -2e6, -1.0);
+        let r = conventional(&P, &h, -1e-5, -1e-4);
+        assert_eq!(r.status, ContactStatus::Slide);
+        assert_relative_eq!(r.ts, -2e6 * P.tan_phi, max_relative = 1e-14);
+        assert_eq!((r.dts_dgn, r.dts_dgs), (0.0, 0.0));
+        assert_relative_eq!(r.slip, -1e-4 - (r.ge - h.ge), max_relative = 1e-12);
+        // Reversal: elastic from the committed elastic gap.
+        let r = conventional(&P, &h, -1e-5, 1e-4);
+        assert_eq!(r.status, ContactStatus::Stick);
+        assert_relative_eq!(r.ts, P.ps * (-3e-4 + 1e-4), max_relative = 1e-14);
+    }
+
+    #[test]
+    fn conventional_commit_switches_to_slide_for_next_step() {
+        let h = committed(0.0, ContactStatus::Stick, -1e6, 0.0);
+        let r = conventional(&P, &h, -1e-5, 1e-3);
+        assert!(r.ts > P.strength(r.tn)); // the overshoot of this step
+        let c = commit(FrictionAlgorithm::Conventional, &P, &h, &r);
+        assert_eq!(c.status, ContactStatus::Slide);
+        assert_eq!(c.slide_sign, 1.0);
+        assert_relative_eq!(c.ge, P.strength(r.tn) / P.ps, max_relative = 1e-14);
+        assert_eq!(c.tn, r.tn);
+        // Return-mapping commit keeps the response state.
+        let r = return_mapping(&P, &h, -1e-5, 1e-3);
+        let c = commit(FrictionAlgorithm::ReturnMapping, &P, &h, &r);
+        assert_eq!((c.status, c.ge, c.tn, c.slide_sign), (ContactStatus::Slide, r.ge, r.tn, 1.0));
+        // Below the strength, both keep sticking.
+        for alg in [FrictionAlgorithm::ReturnMapping, FrictionAlgorithm::Conventional] {
+            let r = evaluate(alg, &P, &h, -1e-5, 1e-4);
+            let c = commit(alg, &P, &h, &r);
+            assert_eq!((c.status, c.ge), (ContactStatus::Stick, 1e-4));
+        }
+        // Opening resets everything.
+        let r = conventional(&P, &h, 1e-6, 1e-3);
+        assert_eq!(commit(FrictionAlgorithm::Conventional, &P, &h, &r), ShearHistory::default());
+    }
+
+    /// Central finite differences of (t_N, t_S) in (g_N, Δg_S).
+    fn check_tangent(law: fn(&FrictionParams, &ShearHistory, f64, f64) -> LawResponse, h: &ShearHistory, gn: f64, dgs: f64) {
+        let r = law(&P, h, gn, dgs);
+        let (eg, es) = (1e-9 * gn.abs(), 1e-9 * dgs.abs().max(1e-6));
+        let fd = |f: &dyn Fn(&LawResponse) -> f64| {
+            let dn = (f(&law(&P, h, gn + eg, dgs)) - f(&law(&P, h, gn - eg, dgs))) / (2.0 * eg);
+            let ds = (f(&law(&P, h, gn, dgs + es)) - f(&law(&P, h, gn, dgs - es))) / (2.0 * es);
+            (dn, ds)
+        };
+        let (a, b) = fd(&|x| x.tn);
+        let (c, d) = fd(&|x| x.ts);
+        let scale = P.pn.max(P.ps);
+        for (fdv, an) in [(a, r.dtn_dgn), (b, r.dtn_dgs), (c, r.dts_dgn), (d, r.dts_dgs)] {
+            assert!((fdv - an).abs() <= 1e-5 * scale, "status {:?}: fd {fdv} vs analytic {an}", r.status);
+        }
+    }
+
+    #[test]
+    fn tangents_match_central_finite_differences() {
+        let stick = committed(1e-4, ContactStatus::Stick, -1e6, 0.0);
+        let slide = committed(5e-4, ContactStatus::Slide, -1.2e6, 1.0);
+        for law in [return_mapping as fn(&_, &_, _, _) -> _, conventional] {
+            for h in [&stick, &slide] {
+                for (gn, dgs) in [(-1e-5, 1e-4), (-1e-5, 2e-3), (-1e-5, -2e-3), (-3e-6, 5e-4), (2e-6, 1e-4)] {
+                    check_tangent(law, h, gn, dgs);
+                }
+            }
+        }
+        // The slide branch of return mapping really is unsymmetric.
+        let r = return_mapping(&P, &stick, -1e-5, 2e-3);
+        assert_eq!(r.status, ContactStatus::Slide);
+        assert!(r.dts_dgn != r.dtn_dgs);
+    }
+}

@@ -19,6 +19,7 @@ pub mod broad;
 pub mod friction;
 pub mod generate;
 pub mod narrow;
+pub mod set;
 
 pub use broad::sweep_and_prune;
 pub use friction::{commit, conventional, evaluate, return_mapping, ContactStatus, FrictionParams, LawResponse, ShearHistory};

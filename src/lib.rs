@@ -20,3 +20,4 @@ pub mod output;
 pub mod simulation;
 pub mod solver;
 pub mod time;
+pub mod verify;

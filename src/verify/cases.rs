@@ -1,0 +1,362 @@
+//! The verification cases as functions: each builds its model (TOML text, so that
+//! the whole path from the file format is exercised), runs it and returns the
+//! figures that are compared with the closed form or independent reference.
+//! The integration tests (`tests/`) call them at full size and assert; `nmm verify`
+//! calls them at a quick size and writes a report.
+
+use crate::model::{parse_model, Model};
+use crate::simulation::{monitor_values, Simulation};
+use std::path::Path;
+
+/// Parse a generated model (a bug in the generator is reported as an error).
+pub fn model(text: &str) -> Result<Model, String> {
+    parse_model(text, Path::new(".")).map_err(|e| e.to_string())
+}
+
+fn simulate(text: &str) -> Result<Simulation, String> {
+    Simulation::new(model(text)?)
+}
+
+fn run_to_end(sim: &mut Simulation) -> Result<Vec<usize>, String> {
+    let mut its = Vec::new();
+    while !sim.finished() {
+        its.push(sim.advance().map_err(|e| e.to_string())?.iterations);
+    }
+    Ok(its)
+}
+
+/// Median of a list of counts.
+pub fn median(v: &[usize]) -> usize {
+    let mut s = v.to_vec();
+    s.sort_unstable();
+    s.get(s.len() / 2).copied().unwrap_or(0)
+}
+
+/// A TOML array of points.
+pub fn poly(pts: &[[f64; 2]]) -> String {
+    let items: Vec<String> = pts.iter().map(|p| format!("[{:.17e}, {:.17e}]", p[0], p[1])).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// A TOML point.
+pub fn point(p: [f64; 2]) -> String {
+    format!("[{:.17e}, {:.17e}]", p[0], p[1])
+}
+
+/// Rotate by `angle_deg` about the origin, then translate.
+pub fn place(pts: &[[f64; 2]], angle_deg: f64, offset: [f64; 2]) -> Vec<[f64; 2]> {
+    let (s, c) = angle_deg.to_radians().sin_cos();
+    pts.iter().map(|p| [offset[0] + c * p[0] - s * p[1], offset[1] + s * p[0] + c * p[1]]).collect()
+}
+
+/// Observed convergence orders from errors at successive halvings of h.
+pub fn orders(errors: &[f64]) -> Vec<f64> {
+    errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
+}
+
+fn material(e: f64, nu: f64, rho: f64, plane: &str) -> String {
+    format!("[[material]]\nname = \"m\"\ndensity = {rho}\nyoung = {e}\npoisson = {nu}\nplane = \"{plane}\"\n")
+}
+
+// ---------------------------------------------------------------- patch test
+
+/// Largest relative errors of a patch test.
+#[derive(Debug, Clone, Copy)]
+pub struct PatchErrors {
+    pub stress: f64,
+    pub displacement: f64,
+}
+
+/// Rotated rectangle under self-equilibrated tractions t = σ n on every edge (a uniform
+/// stress σ = [2, −1, 0.5] MPa), rigid modes taken out by three point constraints that
+/// carry no reaction. Exact: uniform σ and u = ε(x − a) + rotation, ε = D⁻¹σ.
+pub fn patch(angle: f64, h: f64, offset: [f64; 2]) -> Result<PatchErrors, String> {
+    let (e, nu) = (1.0e9, 0.25);
+    let sigma = [2.0e6, -1.0e6, 0.5e6];
+    let pts = place(&[[0.0, 0.0], [1.0, 0.0], [1.0, 0.6], [0.0, 0.6]], angle, offset);
+    let mut loads = String::new();
+    for i in 0..4 {
+        let (a, b) = (pts[i], pts[(i + 1) % 4]);
+        let len = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+        let n = [(b[1] - a[1]) / len, -(b[0] - a[0]) / len];
+        let t = [sigma[0] * n[0] + sigma[2] * n[1], sigma[2] * n[0] + sigma[1] * n[1]];
+        loads += &format!("[[load]]\nblock = \"b\"\nedge = {}\ntraction = {}\n", poly(&[a, b]), point(t));
+    }
+    let (pa, pb) = (pts[0], pts[1]);
+    let text = format!(
+        "[analysis]\nmode = \"static\"\ndt = 1000.0\nsteps = 1\n[cover]\nsize = {h}\n{}\
+         [[block]]\nname = \"b\"\nmaterial = \"m\"\nvertices = {}\n{loads}\
+         [[constraint]]\nblock = \"b\"\npoint = {}\nux = 0.0\nuy = 0.0\n\
+         [[constraint]]\nblock = \"b\"\npoint = {}\nuy = 0.0\n",
+        material(e, nu, 2000.0, "stress"),
+        poly(&pts),
+        point(pa),
+        point(pb)
+    );
+    let mut sim = simulate(&text)?;
+    // material points at every element vertex, located before the step
+    let probes: Vec<_> = sim
+        .disc
+        .elements
+        .iter()
+        .enumerate()
+        .flat_map(|(ei, el)| el.polygon.iter().map(move |x| (*x, crate::cover::MaterialPoint { element: ei, weights: el.weights(*x) })))
+        .collect();
+    run_to_end(&mut sim)?;
+    let eps = [(sigma[0] - nu * sigma[1]) / e, (sigma[1] - nu * sigma[0]) / e, 2.0 * (1.0 + nu) * sigma[2] / e];
+    let smax = sigma.iter().fold(0.0f64, |m, s| m.max(s.abs()));
+    let stress = sim.stress.iter().flat_map(|s| (0..3).map(move |k| (s[k] - sigma[k]).abs() / smax)).fold(0.0, f64::max);
+    let lin = |x: [f64; 2], om: f64| -> [f64; 2] {
+        let d = [x[0] - pa[0], x[1] - pa[1]];
+        [eps[0] * d[0] + 0.5 * eps[2] * d[1] - om * d[1], 0.5 * eps[2] * d[0] + eps[1] * d[1] + om * d[0]]
+    };
+    let om = -lin(pb, 0.0)[1] / (pb[0] - pa[0]);
+    let umax = pts.iter().map(|p| lin(*p, om)).fold(0.0f64, |m, u| m.max(u[0].abs()).max(u[1].abs()));
+    let displacement = probes
+        .iter()
+        .map(|(x0, mp)| {
+            let u = sim.displacement_at(mp);
+            let w = lin(*x0, om);
+            (u[0] - w[0]).abs().max((u[1] - w[1]).abs()) / umax
+        })
+        .fold(0.0, f64::max);
+    Ok(PatchErrors { stress, displacement })
+}
+
+/// Rollers by edge penalty on the left and bottom edges, uniform tension σ on the right
+/// edge (ν = 0). Returns (max relative stress error, relative error of the right edge's
+/// displacement against σ w/E shifted by the stated penalty stretch −σ/p, p = 1e6 E/h).
+pub fn roller_patch(h: f64) -> Result<(f64, f64), String> {
+    let (e, sx) = (1.0e9, 1.0e6);
+    let (x0, y0, w, ht) = (0.031, 0.017, 1.0, 0.5);
+    let (x1, y1) = (x0 + w, y0 + ht);
+    let text = format!(
+        "[analysis]\nmode = \"static\"\ndt = 1000.0\nsteps = 1\n[cover]\nsize = {h}\n{}\
+         [[block]]\nname = \"b\"\nmaterial = \"m\"\nvertices = [[{x0}, {y0}], [{x1}, {y0}], [{x1}, {y1}], [{x0}, {y1}]]\n\
+         [[load]]\nblock = \"b\"\nedge = [[{x1}, {y0}], [{x1}, {y1}]]\ntraction = [{sx}, 0.0]\n\
+         [[constraint]]\nblock = \"b\"\nedge = [[{x0}, {y0}], [{x0}, {y1}]]\nux = 0.0\n\
+         [[constraint]]\nblock = \"b\"\nedge = [[{x0}, {y0}], [{x1}, {y0}]]\nuy = 0.0\n\
+         [[monitor]]\nname = \"right\"\npoint = [{x1}, {ym}]\n",
+        material(e, 0.0, 2000.0, "strain"),
+        ym = y0 + 0.5 * ht
+    );
+    let mut sim = simulate(&text)?;
+    run_to_end(&mut sim)?;
+    let stress = sim.stress.iter().map(|s| (s[0] - sx).abs().max(s[1].abs()).max(s[2].abs()) / sx).fold(0.0, f64::max);
+    let want = sx / e * w - sx / (sim.model.analysis.constraint_penalty * e / h);
+    let u = monitor_values(&sim)[0];
+    Ok((stress, ((u - want) / want).abs()))
+}
+
+// ---------------------------------------------------------------- column, cantilever
+
+/// Self-weight column of height L = 10 m (ν = 0, static), h = L/n. Returns the relative
+/// error of the top displacement against −ρ g L²/(2E).
+pub fn column(n_per_length: usize) -> Result<f64, String> {
+    let (l, w, e, rho, g) = (10.0, 1.0, 1.0e9, 2000.0, 9.81);
+    let (x0, y0) = (0.013, 0.021);
+    let h = l / n_per_length as f64;
+    let (x1, y1) = (x0 + w, y0 + l);
+    let text = format!(
+        "[analysis]\nmode = \"static\"\ndt = 100.0\nsteps = 1\ngravity = [0.0, -{g}]\n[cover]\nsize = {h}\n{}\
+         [[block]]\nname = \"column\"\nmaterial = \"m\"\nvertices = [[{x0}, {y0}], [{x1}, {y0}], [{x1}, {y1}], [{x0}, {y1}]]\n\
+         [[constraint]]\nblock = \"column\"\nedge = [[{x0}, {y0}], [{x1}, {y0}]]\nuy = 0.0\n\
+         [[constraint]]\nblock = \"column\"\npoint = [{x0}, {y0}]\nux = 0.0\n\
+         [[monitor]]\nname = \"top\"\npoint = [{xm}, {y1}]\n",
+        material(e, 0.0, rho, "strain"),
+        xm = x0 + 0.5 * w
+    );
+    let mut sim = simulate(&text)?;
+    run_to_end(&mut sim)?;
+    let exact = -rho * g * l * l / (2.0 * e);
+    Ok(((monitor_values(&sim)[1] - exact) / exact).abs())
+}
+
+/// Timoshenko beam tip deflection of the cantilever of [`cantilever_tip`].
+pub fn cantilever_reference() -> f64 {
+    let (l, d, e, nu, p) = (10.0f64, 1.0f64, 1.0e9, 0.3, 1.0e3);
+    let i = d.powi(3) / 12.0;
+    let g = e / (2.0 * (1.0 + nu));
+    p * l.powi(3) / (3.0 * e * i) + p * l / (5.0 / 6.0 * g * d)
+}
+
+/// Cantilever (plane stress) L = 10 m, d = 1 m, clamped at x = 0 by edge penalty, uniform
+/// end shear of resultant P = 1 kN/m at x = L. Returns the tip deflection (positive down).
+pub fn cantilever_tip(h: f64) -> Result<f64, String> {
+    let (l, d, e, nu, p) = (10.0, 1.0, 1.0e9, 0.3, 1.0e3);
+    let text = format!(
+        "[analysis]\nmode = \"static\"\ndt = 100.0\nsteps = 1\n[cover]\nsize = {h}\n{}\
+         [[block]]\nname = \"beam\"\nmaterial = \"m\"\nvertices = [[0.0, 0.0], [{l}, 0.0], [{l}, {d}], [0.0, {d}]]\n\
+         [[constraint]]\nblock = \"beam\"\nedge = [[0.0, 0.0], [0.0, {d}]]\nux = 0.0\nuy = 0.0\n\
+         [[load]]\nblock = \"beam\"\nedge = [[{l}, 0.0], [{l}, {d}]]\ntraction = [0.0, -{t}]\n\
+         [[monitor]]\nname = \"tip\"\npoint = [{l}, {hd}]\n",
+        material(e, nu, 2000.0, "stress"),
+        t = p / d,
+        hd = 0.5 * d
+    );
+    let mut sim = simulate(&text)?;
+    run_to_end(&mut sim)?;
+    Ok(-monitor_values(&sim)[1])
+}
+
+// ---------------------------------------------------------------- dynamics
+
+/// Free fall for 1 s (dynamic, Δt = 0.01 s): returns (computed u_y, exact −½ g t²).
+pub fn free_fall() -> Result<(f64, f64), String> {
+    let text = format!(
+        "[analysis]\nmode = \"dynamic\"\ndt = 0.01\nsteps = 100\ngravity = [0.0, -9.81]\n[cover]\nsize = 0.3\n{}\
+         [[block]]\nname = \"b\"\nmaterial = \"m\"\nvertices = [[0.1, 0.2], [1.1, 0.25], [0.9, 1.0], [0.2, 0.8]]\n\
+         [[monitor]]\nname = \"c\"\npoint = [0.5, 0.5]\n",
+        material(1.0e9, 0.25, 2500.0, "strain")
+    );
+    let mut sim = simulate(&text)?;
+    run_to_end(&mut sim)?;
+    Ok((monitor_values(&sim)[1], -0.5 * 9.81))
+}
+
+/// Bar (L = 10 m, ν = 0) fixed at one end, step traction at the other, 40 steps per
+/// period T = 4L/c. Returns (period measured between upward zero crossings of
+/// u_tip − u_static, exact T).
+pub fn bar_period() -> Result<(f64, f64), String> {
+    let (l, e, rho, sx) = (10.0f64, 1.0e9f64, 2000.0f64, 1.0e6);
+    let period = 4.0 * l / (e / rho).sqrt();
+    let dt = period / 40.0;
+    let text = format!(
+        "[analysis]\nmode = \"dynamic\"\ndt = {dt}\nsteps = 160\n[cover]\nsize = 0.25\n{}\
+         [[block]]\nname = \"bar\"\nmaterial = \"m\"\nvertices = [[0.0, 0.0], [{l}, 0.0], [{l}, 0.5], [0.0, 0.5]]\n\
+         [[constraint]]\nblock = \"bar\"\nedge = [[0.0, 0.0], [0.0, 0.5]]\nux = 0.0\nuy = 0.0\n\
+         [[load]]\nblock = \"bar\"\nedge = [[{l}, 0.0], [{l}, 0.5]]\ntraction = [{sx}, 0.0]\n\
+         [[monitor]]\nname = \"tip\"\npoint = [{l}, 0.25]\n",
+        material(e, 0.0, rho, "stress")
+    );
+    let mut sim = simulate(&text)?;
+    let u_static = sx * l / e;
+    let mut hist = vec![(0.0, -u_static)];
+    while !sim.finished() {
+        sim.advance().map_err(|e| e.to_string())?;
+        hist.push((sim.time, monitor_values(&sim)[0] - u_static));
+    }
+    let ups: Vec<f64> = hist
+        .windows(2)
+        .filter(|w| w[0].1 < 0.0 && w[1].1 >= 0.0)
+        .map(|w| w[0].0 + (w[1].0 - w[0].0) * (-w[0].1) / (w[1].1 - w[0].1))
+        .collect();
+    if ups.len() < 3 {
+        return Err(format!("bar period: only {} upward zero crossings", ups.len()));
+    }
+    Ok((ups[2] - ups[1], period))
+}
+
+// ---------------------------------------------------------------- contact and friction
+
+/// The paper's direct shear test (see `examples/direct_shear.toml`) with normal stress
+/// `sigma_n` and friction angle `phi`. Returns per step (shear stress −fx/L, normal
+/// stress fn/L, Newton iterations, residual norms).
+pub fn direct_shear(sigma_n: f64, phi: f64, algorithm: &str) -> Result<Vec<(f64, f64, usize, Vec<f64>)>, String> {
+    let text = format!(
+        "[analysis]\nmode = \"static\"\ndt = 1.0\nsteps = 5\nfriction = \"{algorithm}\"\n[cover]\nsize = 0.025\n\
+         [[material]]\nname = \"rock\"\ndensity = 2500.0\nyoung = 1.0e9\npoisson = 0.0\n\
+         [[block]]\nname = \"lower\"\nmaterial = \"rock\"\nvertices = [[0.0, 0.0], [0.2, 0.0], [0.2, 0.1], [0.0, 0.1]]\nfixed = true\n\
+         [[block]]\nname = \"upper\"\nmaterial = \"rock\"\nvertices = [[0.05, 0.1], [0.15, 0.1], [0.15, 0.2], [0.05, 0.2]]\n\
+         [[interface]]\nfriction_angle = {phi}\nnormal_penalty = 1.0e11\nshear_penalty = 1.0e11\n\
+         [[load]]\nblock = \"upper\"\nedge = [[0.05, 0.2], [0.15, 0.2]]\ntraction = [0.0, -{sigma_n}]\n\
+         [[constraint]]\nblock = \"upper\"\nedge = [[0.05, 0.1], [0.05, 0.2]]\nux = [[0.0, 0.0], [5.0, 3.0e-4]]\n\
+         [[monitor]]\nname = \"joint\"\ninterface = [\"upper\", \"lower\"]\n"
+    );
+    let mut sim = simulate(&text)?;
+    let mut out = Vec::new();
+    while !sim.finished() {
+        let rep = sim.advance().map_err(|e| e.to_string())?;
+        let v = monitor_values(&sim);
+        out.push((-v[0] / 0.1, v[2] / 0.1, rep.iterations, rep.residuals));
+    }
+    Ok(out)
+}
+
+/// A block (0.5 m × 0.25 m) on a plane dipping θ, both blocks rotated so the mesh is not
+/// aligned, dynamic under gravity. Returns (slip along the plane at the end, closed form
+/// ½ g (sin θ − cos θ tan φ) t² (0 when φ ≥ θ), Newton iterations per step).
+pub fn incline(theta: f64, phi: f64, dt: f64, steps: usize) -> Result<(f64, f64, Vec<usize>), String> {
+    let rot = |pts: &[[f64; 2]]| place(pts, -theta, [0.0, 2.5]);
+    let base = rot(&[[0.0, -0.5], [4.0, -0.5], [4.0, 0.0], [0.0, 0.0]]);
+    let slider = rot(&[[0.5, 0.0], [1.0, 0.0], [1.0, 0.25], [0.5, 0.25]]);
+    let c = rot(&[[0.75, 0.125]])[0];
+    let text = format!(
+        "[analysis]\nmode = \"dynamic\"\ndt = {dt}\nsteps = {steps}\ngravity = [0.0, -9.81]\n[cover]\nsize = 0.0625\n\
+         [[material]]\nname = \"rock\"\ndensity = 2000.0\nyoung = 1.0e9\npoisson = 0.25\n\
+         [[block]]\nname = \"base\"\nmaterial = \"rock\"\nvertices = {}\nfixed = true\n\
+         [[block]]\nname = \"slider\"\nmaterial = \"rock\"\nvertices = {}\n\
+         [[interface]]\nfriction_angle = {phi}\nnormal_penalty = 1.0e9\nshear_penalty = 1.0e9\n\
+         [[monitor]]\nname = \"c\"\npoint = {}\n",
+        poly(&base),
+        poly(&slider),
+        point(c)
+    );
+    let mut sim = simulate(&text)?;
+    let its = run_to_end(&mut sim)?;
+    let v = monitor_values(&sim);
+    let (s, co) = theta.to_radians().sin_cos();
+    let slip = v[0] * co - v[1] * s;
+    let t = sim.time;
+    let exact = (0.5 * 9.81 * (s - co * phi.to_radians().tan()) * t * t).max(0.0);
+    Ok((slip, exact, its))
+}
+
+/// What [`settle`] measures.
+#[derive(Debug, Clone)]
+pub struct Settled {
+    /// Total downward force on the fixed base from all blocks.
+    pub base_force: f64,
+    pub weight: f64,
+    pub max_velocity: f64,
+    /// Largest contact penetration −t_N/p_N.
+    pub max_penetration: f64,
+    pub iterations: Vec<usize>,
+}
+
+/// Rectangular blocks `(x, y, w, h)` on a fixed base, dynamic under gravity for
+/// `steps` × 2 ms.
+pub fn settle(blocks: &[(f64, f64, f64, f64)], steps: usize) -> Result<Settled, String> {
+    let (rho, g, pn) = (2000.0, 9.81, 1.0e10);
+    let rect = |x0: f64, y0: f64, w: f64, h: f64| poly(&[[x0, y0], [x0 + w, y0], [x0 + w, y0 + h], [x0, y0 + h]]);
+    let mut text = format!(
+        "[analysis]\nmode = \"dynamic\"\ndt = 0.002\nsteps = {steps}\ngravity = [0.0, -{g}]\n[cover]\nsize = 0.1\n\
+         [[material]]\nname = \"brick\"\ndensity = {rho}\nyoung = 5.0e9\npoisson = 0.2\n\
+         [[block]]\nname = \"base\"\nmaterial = \"brick\"\nvertices = {}\nfixed = true\n\
+         [[interface]]\nfriction_angle = 35.0\nnormal_penalty = {pn}\nshear_penalty = {pn}\n",
+        rect(-0.5, -0.3, 4.0, 0.3)
+    );
+    let mut weight = 0.0;
+    for (i, &(x, y, w, h)) in blocks.iter().enumerate() {
+        text += &format!("[[block]]\nname = \"b{i}\"\nmaterial = \"brick\"\nvertices = {}\n", rect(x, y, w, h));
+        weight += rho * g * w * h;
+    }
+    let mut sim = simulate(&text)?;
+    let iterations = run_to_end(&mut sim)?;
+    let fy: f64 = (1..=blocks.len()).map(|b| sim.contacts.interface_force(0, b).fy).sum();
+    Ok(Settled {
+        base_force: -fy,
+        weight,
+        max_velocity: sim.v.iter().fold(0.0f64, |m, v| m.max(v.abs())),
+        max_penetration: sim.contacts.contacts.iter().map(|c| -c.response.tn / c.params.pn).fold(0.0f64, f64::max),
+        iterations,
+    })
+}
+
+/// A stack of three blocks.
+pub fn stack_blocks() -> Vec<(f64, f64, f64, f64)> {
+    vec![(0.0, 0.0, 1.0, 0.4), (0.1, 0.4, 0.8, 0.4), (0.2, 0.8, 0.6, 0.4)]
+}
+
+/// A wall of three courses of 0.6 m × 0.25 m bricks in running bond.
+pub fn wall_blocks() -> Vec<(f64, f64, f64, f64)> {
+    let (bw, bh) = (0.6, 0.25);
+    let mut bricks = Vec::new();
+    for course in 0..3 {
+        let (shift, n) = if course % 2 == 0 { (0.0, 4) } else { (0.5 * bw, 3) };
+        for k in 0..n {
+            bricks.push((shift + k as f64 * bw, course as f64 * bh, bw, bh));
+        }
+    }
+    bricks
+}

@@ -15,9 +15,11 @@
 //! function's order.
 
 mod build;
+mod locate;
 pub mod mesh;
 
-pub use build::{discretise, DiscretiseError};
+pub use build::{discretise, discretise_on_mesh, DiscretiseError, MAX_MESH_NODES};
+pub use locate::{ElementIndex, LOCATE_TOL};
 pub use mesh::MathMesh;
 
 use crate::geometry::{cross, sub, Vec2};

@@ -1,0 +1,562 @@
+//! Build the validated [`Model`] from the parsed TOML tree.
+//!
+//! Each table is read in turn; names are resolved to indices; geometry is
+//! checked with the predicates of [`crate::geometry::polygon`] at the model
+//! tolerance `tol = 1e-9 × L`, where `L` is the diagonal of the bounding box
+//! of all block vertices. In messages, vertices and edges of a block are
+//! numbered from 1 in the order the user wrote them (edge k joins vertex k to
+//! vertex k+1, the last edge closes the polygon); `[[…]] #k` counts tables of
+//! one kind from 1.
+
+use super::reader::{
+    array, array_of_tables, boolean, error, fmt_num, fmt_point, integer, number, pair, point, points, segment,
+    string, table, Fields, R,
+};
+use super::*;
+use crate::geometry::polygon::{
+    degeneracy, orient_ccw, point_in_polygon, polygons_overlap, segment_on_boundary, self_intersection,
+    Degeneracy, Location,
+};
+use crate::geometry::{Aabb, Vec2};
+use std::collections::{HashMap, HashSet};
+use toml::{Table, Value};
+
+/// Relative geometric tolerance (× model size).
+pub const REL_TOL: f64 = 1e-9;
+
+const TOP_KEYS: &[&str] =
+    &["analysis", "cover", "material", "block", "interface", "load", "constraint", "base_motion", "monitor"];
+
+/// Validate the whole tree. `base_dir` resolves `[base_motion] file`.
+pub(crate) fn build(root: &Table, base_dir: &Path) -> R<Model> {
+    if let Some(k) = root.keys().find(|k| !TOP_KEYS.contains(&k.as_str())) {
+        return Err(error(format!(
+            "top level: unknown key `{}` (allowed tables: {})",
+            k.escape_debug(),
+            TOP_KEYS.join(", ")
+        )));
+    }
+    let analysis = analysis(root)?;
+    let cover_size = cover(root)?;
+    let materials = materials(root)?;
+    let mut blocks = blocks(root, &materials)?;
+    let tol = model_tolerance(&blocks);
+    check_polygons(&mut blocks, tol)?;
+    let names: HashMap<&str, usize> = blocks.iter().enumerate().map(|(i, b)| (b.name.as_str(), i)).collect();
+    let interfaces = interfaces(root, &blocks, &names)?;
+    let loads = loads(root, &blocks, &names, tol)?;
+    let constraints = constraints(root, &blocks, &names, tol)?;
+    let base_motion = base_motion(root, base_dir)?;
+    let monitors = monitors(root, &blocks, &names, tol)?;
+    Ok(Model { analysis, cover_size, materials, blocks, interfaces, loads, constraints, base_motion, monitors })
+}
+
+/// `1e-9 ×` the bounding-box diagonal of all block vertices.
+fn model_tolerance(blocks: &[Block]) -> f64 {
+    let mut bb = Aabb::empty();
+    for b in blocks {
+        for &p in &b.vertices {
+            bb.include(p);
+        }
+    }
+    let d = bb.diagonal();
+    if d.is_finite() {
+        REL_TOL * d
+    } else {
+        0.0
+    }
+}
+
+fn positive(f: &Fields, key: &str, x: f64) -> R<f64> {
+    if x > 0.0 {
+        Ok(x)
+    } else {
+        Err(f.err(key, format!("must be positive, got {}", fmt_num(x))))
+    }
+}
+
+fn count(f: &Fields, key: &str, default: usize, min: i64) -> R<usize> {
+    match f.opt(key, integer)? {
+        None => Ok(default),
+        Some(n) if n < min => Err(f.err(key, format!("must be at least {min}, got {n}"))),
+        Some(n) => usize::try_from(n).map_err(|_| f.err(key, format!("out of range, got {n}"))),
+    }
+}
+
+fn choice<'a>(f: &Fields, key: &str, allowed: &[&'a str], default: &'a str) -> R<&'a str> {
+    match f.opt(key, string)? {
+        None => Ok(default),
+        Some(s) => allowed.iter().copied().find(|a| *a == s).ok_or_else(|| {
+            let list: Vec<String> = allowed.iter().map(|a| format!("\"{a}\"")).collect();
+            f.err(key, format!("expected one of {}, got {s:?}", list.join(", ")))
+        }),
+    }
+}
+
+fn analysis(root: &Table) -> R<Analysis> {
+    let t = table(root, "analysis")?
+        .ok_or_else(|| error("[analysis]: missing table (keys `dt` and `steps` are required)"))?;
+    let f = Fields::new("[analysis]", t);
+    f.deny_unknown(&[
+        "mode",
+        "dt",
+        "steps",
+        "gravity",
+        "friction",
+        "output_every",
+        "max_iterations",
+        "tolerance",
+        "max_step_cuts",
+        "constraint_penalty",
+    ])?;
+    let mode = match choice(&f, "mode", &["dynamic", "static"], "dynamic")? {
+        "static" => Mode::Static,
+        _ => Mode::Dynamic,
+    };
+    let dt = positive(&f, "dt", f.req("dt", number)?)?;
+    let steps = match f.req("steps", integer)? {
+        n if n <= 0 => return Err(f.err("steps", format!("must be positive, got {n}"))),
+        n => usize::try_from(n).map_err(|_| f.err("steps", format!("out of range, got {n}")))?,
+    };
+    let gravity = f.opt("gravity", pair)?.unwrap_or([0.0, 0.0]);
+    let friction = match choice(&f, "friction", &["return-mapping", "conventional"], "return-mapping")? {
+        "conventional" => FrictionAlgorithm::Conventional,
+        _ => FrictionAlgorithm::ReturnMapping,
+    };
+    let output_every = count(&f, "output_every", 1, 1)?;
+    let max_iterations = count(&f, "max_iterations", 25, 1)?;
+    let max_step_cuts = count(&f, "max_step_cuts", 6, 0)?;
+    let tolerance = f.opt("tolerance", number)?.unwrap_or(1e-9);
+    if !(tolerance > 0.0 && tolerance < 1.0) {
+        return Err(f.err("tolerance", format!("must be in (0, 1), got {}", fmt_num(tolerance))));
+    }
+    let constraint_penalty = f.opt("constraint_penalty", number)?.unwrap_or(1e6);
+    positive(&f, "constraint_penalty", constraint_penalty)?;
+    Ok(Analysis {
+        mode,
+        dt,
+        steps,
+        gravity,
+        friction,
+        output_every,
+        max_iterations,
+        tolerance,
+        max_step_cuts,
+        constraint_penalty,
+    })
+}
+
+fn cover(root: &Table) -> R<f64> {
+    let t = table(root, "cover")?.ok_or_else(|| error("[cover]: missing table (key `size` is required)"))?;
+    let f = Fields::new("[cover]", t);
+    f.deny_unknown(&["size"])?;
+    positive(&f, "size", f.req("size", number)?)
+}
+
+fn materials(root: &Table) -> R<Vec<Material>> {
+    let mut out: Vec<Material> = Vec::new();
+    for (i, t) in array_of_tables(root, "material")?.into_iter().enumerate() {
+        let mut f = Fields::new(format!("[[material]] #{}", i + 1), t);
+        let name = f.name("name")?;
+        f.set_place(format!("[[material]] {name:?}"));
+        f.deny_unknown(&["name", "density", "young", "poisson", "plane"])?;
+        if let Some(k) = out.iter().position(|m| m.name == name) {
+            return Err(f.err("name", format!("duplicate material name (also [[material]] #{})", k + 1)));
+        }
+        let density = positive(&f, "density", f.req("density", number)?)?;
+        let young = positive(&f, "young", f.req("young", number)?)?;
+        let poisson = f.req("poisson", number)?;
+        if !(poisson > -1.0 && poisson < 0.5) {
+            return Err(f.err("poisson", format!("must be in (-1, 0.5), got {}", fmt_num(poisson))));
+        }
+        let plane = match choice(&f, "plane", &["strain", "stress"], "strain")? {
+            "stress" => Plane::Stress,
+            _ => Plane::Strain,
+        };
+        out.push(Material { name, density, young, poisson, plane });
+    }
+    Ok(out)
+}
+
+/// Read the blocks (names, materials, vertex lists); geometry is checked later.
+fn blocks(root: &Table, materials: &[Material]) -> R<Vec<Block>> {
+    let tables = array_of_tables(root, "block")?;
+    if tables.is_empty() {
+        return Err(error("[[block]]: the model defines no block"));
+    }
+    let mut out: Vec<Block> = Vec::new();
+    for (i, t) in tables.into_iter().enumerate() {
+        let mut f = Fields::new(format!("[[block]] #{}", i + 1), t);
+        let name = f.name("name")?;
+        f.set_place(format!("[[block]] {name:?}"));
+        f.deny_unknown(&["name", "material", "vertices", "fixed"])?;
+        if let Some(k) = out.iter().position(|b| b.name == name) {
+            return Err(f.err("name", format!("duplicate block name (also [[block]] #{})", k + 1)));
+        }
+        let mat_name = f.req("material", string)?;
+        let material = materials
+            .iter()
+            .position(|m| m.name == mat_name)
+            .ok_or_else(|| f.err("material", format!("unknown material {mat_name:?}")))?;
+        let vertices = f.req("vertices", points)?;
+        if vertices.len() < 3 {
+            return Err(f.err("vertices", format!("a polygon needs at least 3 vertices, got {}", vertices.len())));
+        }
+        let fixed = f.opt("fixed", boolean)?.unwrap_or(false);
+        out.push(Block { name, material, vertices, fixed });
+    }
+    Ok(out)
+}
+
+/// Check every polygon (degeneracy, self-intersection), orient it CCW, and
+/// check that no two blocks overlap.
+fn check_polygons(blocks: &mut [Block], tol: f64) -> R<()> {
+    for b in blocks.iter_mut() {
+        let err = |msg: String| error(format!("[[block]] {:?}: key `vertices`: {msg}", b.name));
+        let n = b.vertices.len();
+        if let Some(d) = degeneracy(&b.vertices, tol) {
+            return Err(err(match d {
+                Degeneracy::TooFewVertices(k) => format!("a polygon needs at least 3 vertices, got {k}"),
+                Degeneracy::RepeatedVertex(i) => {
+                    format!("degenerate polygon: vertices {} and {} coincide", i + 1, (i + 1) % n + 1)
+                }
+                Degeneracy::Collinear => "degenerate polygon: all vertices are collinear".into(),
+                Degeneracy::FoldBack(i) => {
+                    format!("degenerate polygon: the boundary folds back on itself at vertex {}", i + 1)
+                }
+                Degeneracy::ZeroArea => "degenerate polygon: zero area".into(),
+            }));
+        }
+        if let Some((i, j)) = self_intersection(&b.vertices, tol) {
+            return Err(err(format!("polygon self-intersects (edges {} and {})", i + 1, j + 1)));
+        }
+        orient_ccw(&mut b.vertices);
+    }
+    let boxes: Vec<Aabb> = blocks.iter().map(|b| Aabb::of_points(&b.vertices)).collect();
+    for j in 0..blocks.len() {
+        for i in 0..j {
+            if boxes[i].overlaps(&boxes[j]) && polygons_overlap(&blocks[i].vertices, &blocks[j].vertices, tol) {
+                return Err(error(format!(
+                    "[[block]] {:?}: key `vertices`: overlaps block {:?} (blocks may touch but not overlap)",
+                    blocks[j].name, blocks[i].name
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Resolve a block name read from `key`.
+fn block_ref(f: &Fields, key: &str, name: &str, names: &HashMap<&str, usize>) -> R<usize> {
+    names.get(name).copied().ok_or_else(|| f.err(key, format!("unknown block {name:?}")))
+}
+
+/// A pair of two distinct existing block names `["a", "b"]`.
+fn block_pair(f: &Fields, key: &str, names: &HashMap<&str, usize>) -> R<(usize, usize)> {
+    let v = f.req(key, array)?;
+    let (a, b) = match v {
+        [a, b] => (string(a).map_err(|e| f.err(key, e))?, string(b).map_err(|e| f.err(key, e))?),
+        _ => return Err(f.err(key, format!("expected two block names [\"a\", \"b\"], got {} items", v.len()))),
+    };
+    let (ia, ib) = (block_ref(f, key, a, names)?, block_ref(f, key, b, names)?);
+    if ia == ib {
+        return Err(f.err(key, format!("the two blocks must differ, got {a:?} twice")));
+    }
+    Ok((ia, ib))
+}
+
+fn interfaces(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>) -> R<Vec<Interface>> {
+    let mut out = Vec::new();
+    let mut default_at: Option<usize> = None;
+    let mut pairs: HashMap<(usize, usize), usize> = HashMap::new();
+    for (k, t) in array_of_tables(root, "interface")?.into_iter().enumerate() {
+        let mut f = Fields::new(format!("[[interface]] #{}", k + 1), t);
+        f.deny_unknown(&["blocks", "friction_angle", "cohesion", "normal_penalty", "shear_penalty"])?;
+        let pair = if f.has("blocks") {
+            let (a, b) = block_pair(&f, "blocks", names)?;
+            f.set_place(format!("[[interface]] #{} (blocks {:?}, {:?})", k + 1, blocks[a].name, blocks[b].name));
+            let key = (a.min(b), a.max(b));
+            if let Some(first) = pairs.insert(key, k) {
+                return Err(f.err("blocks", format!("this pair already has an interface ([[interface]] #{})", first + 1)));
+            }
+            Some((a, b))
+        } else {
+            f.set_place(format!("[[interface]] #{} (default)", k + 1));
+            if let Some(first) = default_at {
+                return Err(f.fail(format!(
+                    "a second default interface (without `blocks`): [[interface]] #{} is already the default",
+                    first + 1
+                )));
+            }
+            default_at = Some(k);
+            None
+        };
+        let friction_angle = f.req("friction_angle", number)?;
+        if !(0.0..90.0).contains(&friction_angle) {
+            return Err(f.err("friction_angle", format!("must be in [0, 90) degrees, got {}", fmt_num(friction_angle))));
+        }
+        let cohesion = f.opt("cohesion", number)?.unwrap_or(0.0);
+        if cohesion < 0.0 {
+            return Err(f.err("cohesion", format!("must be zero or positive, got {}", fmt_num(cohesion))));
+        }
+        let normal_penalty = positive(&f, "normal_penalty", f.req("normal_penalty", number)?)?;
+        let shear_penalty = positive(&f, "shear_penalty", f.req("shear_penalty", number)?)?;
+        out.push(Interface { blocks: pair, friction_angle, cohesion, normal_penalty, shear_penalty });
+    }
+    if default_at.is_none() && blocks.len() >= 2 {
+        for j in 0..blocks.len() {
+            for i in 0..j {
+                if !pairs.contains_key(&(i, j)) {
+                    let (a, b) = (&blocks[i].name, &blocks[j].name);
+                    return Err(error(format!(
+                        "[[interface]]: no interface for blocks {a:?} and {b:?}: add a default [[interface]] \
+                         (without `blocks`) or one with blocks = [{a:?}, {b:?}]"
+                    )));
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Check that a segment lies on the block boundary.
+fn on_boundary(f: &Fields, key: &str, block: &Block, (a, b): (Vec2, Vec2), tol: f64) -> R<()> {
+    if !(crate::geometry::dist(a, b) > tol) {
+        return Err(f.err(key, format!("segment [{},{}] has zero length", fmt_point(a), fmt_point(b))));
+    }
+    if !segment_on_boundary(&block.vertices, a, b, tol) {
+        return Err(f.err(
+            key,
+            format!("segment [{},{}] is not on the boundary of block {:?}", fmt_point(a), fmt_point(b), block.name),
+        ));
+    }
+    Ok(())
+}
+
+/// Check that a point lies inside or on the block.
+fn in_block(f: &Fields, key: &str, block: &Block, p: Vec2, tol: f64) -> R<()> {
+    if point_in_polygon(&block.vertices, p, tol) == Location::Outside {
+        return Err(f.err(key, format!("point {} is outside block {:?}", fmt_point(p), block.name)));
+    }
+    Ok(())
+}
+
+/// Read `block` and rename the place `[[KIND]] #k (block "name")`.
+fn owner_block(f: &mut Fields, kind: &str, k: usize, names: &HashMap<&str, usize>) -> R<usize> {
+    let name = f.req("block", string)?;
+    f.set_place(format!("[[{kind}]] #{} (block {name:?})", k + 1));
+    block_ref(f, "block", name, names)
+}
+
+fn loads(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>, tol: f64) -> R<Vec<Load>> {
+    let mut out = Vec::new();
+    for (k, t) in array_of_tables(root, "load")?.into_iter().enumerate() {
+        let mut f = Fields::new(format!("[[load]] #{}", k + 1), t);
+        let bi = owner_block(&mut f, "load", k, names)?;
+        f.deny_unknown(&["block", "edge", "traction", "point", "force"])?;
+        let block = &blocks[bi];
+        let kind = match (f.has("edge"), f.has("point")) {
+            (true, true) => return Err(f.err("point", "give either `edge` (with `traction`) or `point` (with `force`), not both")),
+            (false, false) => {
+                return Err(f.err("edge", "missing: give either `edge` with `traction`, or `point` with `force`"))
+            }
+            (true, false) => {
+                if f.has("force") {
+                    return Err(f.err("force", "belongs to a point load; an edge load takes `traction` (Pa)"));
+                }
+                let (a, b) = f.req("edge", segment)?;
+                on_boundary(&f, "edge", block, (a, b), tol)?;
+                let traction = f.req("traction", pair)?;
+                LoadKind::Edge { a, b, traction }
+            }
+            (false, true) => {
+                if f.has("traction") {
+                    return Err(f.err("traction", "belongs to an edge load; a point load takes `force` (N/m)"));
+                }
+                let p = f.req("point", point)?;
+                in_block(&f, "point", block, p, tol)?;
+                let force = f.req("force", pair)?;
+                LoadKind::Point { p, force }
+            }
+        };
+        out.push(Load { block: bi, kind });
+    }
+    Ok(out)
+}
+
+/// A prescribed displacement: a number, or rows `[[t, u], …]` with strictly increasing t.
+fn time_function(v: &Value) -> Result<TimeFunction, String> {
+    if let Value::Array(rows) = v {
+        if rows.is_empty() {
+            return Err("the table [[t, u], …] has no rows".into());
+        }
+        let mut out: Vec<(f64, f64)> = Vec::with_capacity(rows.len());
+        for (i, r) in rows.iter().enumerate() {
+            let [t, u] = pair(r).map_err(|e| format!("row {}: {}", i + 1, e.replace("[x, y]", "[t, u]")))?;
+            if let Some(&(t0, _)) = out.last() {
+                if !(t > t0) {
+                    return Err(format!(
+                        "row {}: times must be strictly increasing, got {} after {}",
+                        i + 1,
+                        fmt_num(t),
+                        fmt_num(t0)
+                    ));
+                }
+            }
+            out.push((t, u));
+        }
+        Ok(TimeFunction::Table(out))
+    } else {
+        number(v)
+            .map(TimeFunction::Constant)
+            .map_err(|_| format!("expected a number or a table [[t, u], …], got {}", super::reader::describe(v)))
+    }
+}
+
+fn constraints(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>, tol: f64) -> R<Vec<Constraint>> {
+    let mut out = Vec::new();
+    for (k, t) in array_of_tables(root, "constraint")?.into_iter().enumerate() {
+        let mut f = Fields::new(format!("[[constraint]] #{}", k + 1), t);
+        let bi = owner_block(&mut f, "constraint", k, names)?;
+        f.deny_unknown(&["block", "edge", "point", "ux", "uy"])?;
+        let block = &blocks[bi];
+        let geometry = match (f.has("edge"), f.has("point")) {
+            (true, true) => return Err(f.err("point", "give either `edge` or `point`, not both")),
+            (false, false) => return Err(f.err("edge", "missing: give either `edge` or `point`")),
+            (true, false) => {
+                let (a, b) = f.req("edge", segment)?;
+                on_boundary(&f, "edge", block, (a, b), tol)?;
+                ConstraintGeometry::Edge { a, b }
+            }
+            (false, true) => {
+                let p = f.req("point", point)?;
+                in_block(&f, "point", block, p, tol)?;
+                ConstraintGeometry::Point { p }
+            }
+        };
+        let ux = f.opt("ux", time_function)?;
+        let uy = f.opt("uy", time_function)?;
+        if ux.is_none() && uy.is_none() {
+            return Err(f.err("ux", "missing: give `ux`, `uy` or both"));
+        }
+        out.push(Constraint { block: bi, geometry, ux, uy });
+    }
+    Ok(out)
+}
+
+fn base_motion(root: &Table, base_dir: &Path) -> R<Option<BaseMotion>> {
+    let Some(t) = table(root, "base_motion")? else {
+        return Ok(None);
+    };
+    let f = Fields::new("[base_motion]", t);
+    f.deny_unknown(&["table", "file", "format", "component", "scale"])?;
+    let component = choice(&f, "component", &["x", "y"], "x")?;
+    let scale = f.opt("scale", number)?.unwrap_or(1.0);
+    let (key, raw) = match (f.has("table"), f.has("file")) {
+        (true, true) => return Err(f.err("file", "give either `table` or `file`, not both")),
+        (false, false) => return Err(f.err("table", "missing: give either `table` or `file`")),
+        (true, false) => {
+            if f.has("format") {
+                return Err(f.err("format", "applies only with `file`"));
+            }
+            ("table", f.req("table", |v| motion_table(v, component))?)
+        }
+        (false, true) => {
+            let format = choice(&f, "format", &["csv", "peer", "knet"], "")?;
+            let format = (!format.is_empty()).then_some(format);
+            let file = f.req("file", string)?;
+            if file.trim().is_empty() {
+                return Err(f.err("file", "must not be empty"));
+            }
+            let path = base_dir.join(file);
+            if let Err(e) = std::fs::metadata(&path) {
+                return Err(f.err("file", format!("cannot read {file:?} ({}): {e}", path.display())));
+            }
+            let samples = crate::motion::read_record(&path, format, component).map_err(|e| f.err("file", e))?;
+            ("file", samples)
+        }
+    };
+    check_samples(&raw).map_err(|e| f.err(key, e))?;
+    let samples: Vec<[f64; 3]> = raw.iter().map(|s| [s[0], scale * s[1], scale * s[2]]).collect();
+    if samples.iter().any(|s| !(s[1].is_finite() && s[2].is_finite())) {
+        return Err(f.err("scale", format!("scaled accelerations overflow (scale = {})", fmt_num(scale))));
+    }
+    Ok(Some(BaseMotion { samples }))
+}
+
+/// Rows `[t, ax, ay]` or `[t, a]` (the latter drives `component`).
+fn motion_table(v: &Value, component: &str) -> Result<Vec<[f64; 3]>, String> {
+    let rows = array(v)?;
+    let mut width = None;
+    let mut out = Vec::with_capacity(rows.len());
+    for (i, r) in rows.iter().enumerate() {
+        let items = array(r).map_err(|e| format!("row {}: {e}", i + 1))?;
+        let nums: Vec<f64> = items.iter().map(number).collect::<Result<_, _>>().map_err(|e| format!("row {}: {e}", i + 1))?;
+        out.push(match nums.as_slice() {
+            [t, ax, ay] => [*t, *ax, *ay],
+            [t, a] if component == "y" => [*t, 0.0, *a],
+            [t, a] => [*t, *a, 0.0],
+            _ => return Err(format!("row {}: expected [t, ax, ay] or [t, a], got {} numbers", i + 1, nums.len())),
+        });
+        if *width.get_or_insert(nums.len()) != nums.len() {
+            return Err(format!("row {}: all rows must have the same length", i + 1));
+        }
+    }
+    Ok(out)
+}
+
+/// At least two finite samples with strictly increasing times.
+fn check_samples(s: &[[f64; 3]]) -> Result<(), String> {
+    if s.len() < 2 {
+        return Err(format!("the record needs at least 2 samples, got {}", s.len()));
+    }
+    for (i, r) in s.iter().enumerate() {
+        if r.iter().any(|x| !x.is_finite()) {
+            return Err(format!("sample {}: non-finite value", i + 1));
+        }
+        if i > 0 && !(r[0] > s[i - 1][0]) {
+            return Err(format!(
+                "sample {}: times must be strictly increasing, got {} after {}",
+                i + 1,
+                fmt_num(r[0]),
+                fmt_num(s[i - 1][0])
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn monitors(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>, tol: f64) -> R<Vec<Monitor>> {
+    let mut out: Vec<Monitor> = Vec::new();
+    let mut seen: HashSet<String> = HashSet::new();
+    for (k, t) in array_of_tables(root, "monitor")?.into_iter().enumerate() {
+        let mut f = Fields::new(format!("[[monitor]] #{}", k + 1), t);
+        let name = f.name("name")?;
+        f.set_place(format!("[[monitor]] {name:?}"));
+        f.deny_unknown(&["name", "point", "interface"])?;
+        if name.chars().any(|c| c == ',' || c == '"' || c.is_control()) {
+            return Err(f.err("name", "must not contain commas, quotes or control characters (it heads history.csv columns)"));
+        }
+        if !seen.insert(name.clone()) {
+            return Err(f.err("name", "duplicate monitor name"));
+        }
+        let kind = match (f.has("point"), f.has("interface")) {
+            (true, true) => return Err(f.err("interface", "give either `point` or `interface`, not both")),
+            (false, false) => return Err(f.err("point", "missing: give either `point` or `interface`")),
+            (true, false) => {
+                let p = f.req("point", point)?;
+                let block = blocks
+                    .iter()
+                    .position(|b| point_in_polygon(&b.vertices, p, tol) != Location::Outside)
+                    .ok_or_else(|| f.err("point", format!("point {} is not inside any block", fmt_point(p))))?;
+                MonitorKind::Point { p, block }
+            }
+            (false, true) => {
+                let (first, second) = block_pair(&f, "interface", names)?;
+                MonitorKind::Interface { first, second }
+            }
+        };
+        out.push(Monitor { name, kind });
+    }
+    Ok(out)
+}

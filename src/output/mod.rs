@@ -1,1 +1,52 @@
-//! (to be written)
+//! Everything a run writes to its output folder, in generic form: the writers know nothing of
+//! NMM types; the simulation fills them with plain numbers, names and cells.
+//!
+//! # Output folder layout (`nmm run MODEL.toml --out DIR`)
+//! ```text
+//! DIR/
+//!   history.csv            one row per step: step,time,<monitor columns...>,iterations
+//!   blocks.pvd             ParaView collection of the block frames (open this one)
+//!   blocks_000000.vtu      deformed blocks at frame 0: polygons, displacement, stress, ...
+//!   blocks_000010.vtu      ... one frame every `output_every` steps (NNNNNN = step number)
+//!   contacts.pvd           ParaView collection of the contact frames
+//!   contacts_000000.vtu    contacts at frame 0: vertices/lines with forces and states
+//!   ...
+//!   <name>.png, <name>.svg plots (e.g. monitor histories), the same figure in both formats
+//! ```
+//! * [`history`]: `history.csv`, shortest round-trip numbers, flushed as it goes.
+//! * [`vtk`]: `.vtu` unstructured grids (base64 binary) and `.pvd` collections, rewritten
+//!   after each frame so an interrupted run leaves valid files.
+//! * [`plot`]: stacked line plots sharing one x axis, PNG and SVG, with an embedded font.
+//! * [`progress`]: a terminal progress bar (step, simulated time, ETA), silent when stderr is
+//!   not a terminal.
+//!
+//! Frame file names are produced by [`frame_file_name`] so that every part of the program
+//! agrees on them.
+
+pub mod history;
+pub mod plot;
+pub mod progress;
+pub mod vtk;
+
+pub use history::HistoryWriter;
+pub use plot::{plot_panels, LineStyle, Panel, PlotError, Series, Stroke};
+pub use progress::Progress;
+pub use vtk::{write_vtu, Cell, CellKind, DataArray, Grid, PvdWriter, Values};
+
+/// File name of frame `step` of a series, e.g. `frame_file_name("blocks", 42)` is
+/// `blocks_000042.vtu` (at least six digits; more if `step` needs them).
+pub fn frame_file_name(series: &str, step: usize) -> String {
+    format!("{series}_{step:06}.vtu")
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn frame_names_are_zero_padded() {
+        assert_eq!(super::frame_file_name("blocks", 42), "blocks_000042.vtu");
+        assert_eq!(
+            super::frame_file_name("contacts", 1_234_567),
+            "contacts_1234567.vtu"
+        );
+    }
+}

@@ -1,0 +1,424 @@
+//! Line plots of histories: panels stacked vertically over one shared x range, written as
+//! PNG and SVG.
+//!
+//! Owns the figure layout only; the caller chooses what to plot (e.g. slip history above the
+//! input acceleration, both over time).
+//!
+//! # Layout and ranges
+//! * The figure (`width × height` pixels) is split into `panels.len()` rows of equal height.
+//!   Every panel has a title, axis labels, a legend (when any series or line has a label) and
+//!   horizontal reference lines (`hlines`, dashed grey, e.g. a friction limit).
+//! * x range, shared by all panels: `[min x, max x]` over the finite points of every series,
+//!   widened by 2 % of its span on each side. y range, per panel: `[min y, max y]` over the
+//!   finite points and the `hlines`, widened by 6 % of its span. A degenerate range
+//!   (constant data) becomes `v ± 0.1·|v|` (`[-1, 1]` around 0) and an empty one `[0, 1]`
+//!   (see [`padded_range`]). Nothing here panics on empty, constant or non-finite data.
+//! * Non-finite points (NaN, ±∞) are skipped; a line is broken where they occur.
+//!
+//! # Fonts
+//! plotters is built without system font support; DejaVu Sans (`assets/DejaVuSans.ttf`,
+//! licence in `assets/DejaVuSans-LICENSE.txt`) is embedded in the binary and registered as
+//! plotters' `sans-serif` family on first use.
+
+use plotters::chart::SeriesAnno;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::register_font;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+
+/// Smallest and largest accepted figure sizes, pixels.
+const MIN_SIZE: u32 = 100;
+const MAX_SIZE: u32 = 16_384;
+
+/// Tableau 10 palette, picked by [`LineStyle::colour`] modulo 10.
+const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+/// Errors of [`plot_panels`].
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    #[error("no panel to plot")]
+    NoPanels,
+    #[error("figure size {width}x{height} for {panels} panel(s) is out of range (each panel at least {MIN_SIZE}x{MIN_SIZE}, at most {MAX_SIZE} pixels a side)")]
+    InvalidSize {
+        width: u32,
+        height: u32,
+        panels: usize,
+    },
+    #[error("the embedded font could not be loaded")]
+    Font,
+    #[error("drawing {path}: {message}")]
+    Draw { path: PathBuf, message: String },
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stroke {
+    Solid,
+    Dashed,
+    /// Markers only, no line.
+    Points,
+}
+
+/// Stroke and colour (an index into a 10-colour palette, taken modulo 10).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LineStyle {
+    pub stroke: Stroke,
+    pub colour: usize,
+}
+
+impl LineStyle {
+    pub fn solid(colour: usize) -> Self {
+        Self {
+            stroke: Stroke::Solid,
+            colour,
+        }
+    }
+    pub fn dashed(colour: usize) -> Self {
+        Self {
+            stroke: Stroke::Dashed,
+            colour,
+        }
+    }
+    pub fn points(colour: usize) -> Self {
+        Self {
+            stroke: Stroke::Points,
+            colour,
+        }
+    }
+}
+
+/// One curve of a panel. An empty label keeps it out of the legend.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+    pub style: LineStyle,
+}
+
+/// One plot of the figure.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Panel {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+    /// Horizontal reference lines `(y, label)`, drawn dashed across the whole x range.
+    pub hlines: Vec<(f64, String)>,
+}
+
+/// Draws `panels` stacked vertically, sharing one x range, into `<stem>.png` and
+/// `<stem>.svg` (`width × height` pixels for the whole figure). Returns the two paths.
+pub fn plot_panels(
+    path_stem: &Path,
+    panels: &[Panel],
+    width: u32,
+    height: u32,
+) -> Result<Vec<PathBuf>, PlotError> {
+    if panels.is_empty() {
+        return Err(PlotError::NoPanels);
+    }
+    let n = panels.len();
+    let fits = |v: u32, per: usize| v >= MIN_SIZE * per as u32 && v <= MAX_SIZE;
+    if n > (MAX_SIZE / MIN_SIZE) as usize || !fits(width, 1) || !fits(height, n) {
+        return Err(PlotError::InvalidSize {
+            width,
+            height,
+            panels: n,
+        });
+    }
+    ensure_font()?;
+
+    let xs = panels
+        .iter()
+        .flat_map(|p| p.series.iter())
+        .flat_map(|s| s.points.iter())
+        .filter(|p| p.0.is_finite() && p.1.is_finite())
+        .map(|p| p.0);
+    let x_range = padded_range(xs, 0.02);
+
+    let png = with_extension(path_stem, "png");
+    let svg = with_extension(path_stem, "svg");
+    {
+        let root = BitMapBackend::new(&png, (width, height)).into_drawing_area();
+        draw_figure(&root, panels, &x_range).map_err(|message| PlotError::Draw {
+            path: png.clone(),
+            message,
+        })?;
+    }
+    {
+        let root = SVGBackend::new(&svg, (width, height)).into_drawing_area();
+        draw_figure(&root, panels, &x_range).map_err(|message| PlotError::Draw {
+            path: svg.clone(),
+            message,
+        })?;
+    }
+    Ok(vec![png, svg])
+}
+
+/// `[min, max]` of the finite values, widened by `margin × span` on each side. Constant data
+/// `v` (a span below `1e-12·|v|`) gives `v ± 0.1·|v|`, or `[-1, 1]` for `v = 0`; no finite
+/// value gives `[0, 1]`.
+pub fn padded_range(values: impl Iterator<Item = f64>, margin: f64) -> Range<f64> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if lo > hi {
+        return 0.0..1.0;
+    }
+    let span = hi - lo;
+    if !span.is_finite() {
+        return lo..hi;
+    }
+    // A span that is 0, or lost in rounding next to the values, is treated as constant data.
+    if span <= 1e-12 * lo.abs().max(hi.abs()) {
+        let mid = 0.5 * lo + 0.5 * hi;
+        let pad = if mid == 0.0 { 1.0 } else { 0.1 * mid.abs() };
+        return (mid - pad)..(mid + pad);
+    }
+    let pad = margin * span;
+    let (a, b) = (lo - pad, hi + pad);
+    if a.is_finite() && b.is_finite() {
+        a..b
+    } else {
+        lo..hi
+    }
+}
+
+fn with_extension(stem: &Path, ext: &str) -> PathBuf {
+    let mut s = stem.as_os_str().to_owned();
+    s.push(".");
+    s.push(ext);
+    PathBuf::from(s)
+}
+
+fn ensure_font() -> Result<(), PlotError> {
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let ok = *REGISTERED.get_or_init(|| {
+        register_font("sans-serif", FontStyle::Normal, FONT).is_ok()
+            && register_font("sans-serif", FontStyle::Bold, FONT).is_ok()
+    });
+    if ok {
+        Ok(())
+    } else {
+        Err(PlotError::Font)
+    }
+}
+
+/// Tick label: plain decimals with as many digits as the tick spacing needs, exponent
+/// notation for very large or very small magnitudes.
+fn tick_label(v: f64, span: f64) -> String {
+    if v == 0.0 {
+        return "0".to_string();
+    }
+    let mag = v.abs();
+    if !(1e-3..1e6).contains(&mag) {
+        return format!("{v:.2e}");
+    }
+    let step = span / 8.0;
+    // One digit more than the spacing needs, then trailing zeros trimmed.
+    let decimals = if step > 0.0 {
+        (1.0 - step.log10().floor()).clamp(0.0, 8.0) as usize
+    } else {
+        3
+    };
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+fn draw_figure<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    panels: &[Panel],
+    x_range: &Range<f64>,
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let areas = root.split_evenly((panels.len(), 1));
+    for (panel, area) in panels.iter().zip(&areas) {
+        draw_panel(area, panel, x_range).map_err(|e| e.to_string())?;
+    }
+    root.present().map_err(|e| e.to_string())
+}
+
+fn draw_panel<'a, DB: DrawingBackend + 'a>(
+    area: &'a DrawingArea<DB, Shift>,
+    panel: &Panel,
+    x_range: &Range<f64>,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let ys = panel
+        .series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .filter(|p| p.0.is_finite() && p.1.is_finite())
+        .map(|p| p.1)
+        .chain(panel.hlines.iter().map(|h| h.0));
+    let y_range = padded_range(ys, 0.06);
+    let x_span = x_range.end - x_range.start;
+    let y_span = y_range.end - y_range.start;
+
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(75)
+        .build_cartesian_2d(x_range.clone(), y_range.clone())?;
+    let x_fmt = |v: &f64| tick_label(*v, x_span);
+    let y_fmt = |v: &f64| tick_label(*v, y_span);
+    chart
+        .configure_mesh()
+        .x_desc(panel.x_label.as_str())
+        .y_desc(panel.y_label.as_str())
+        .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 15))
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()?;
+
+    let mut has_legend = false;
+    for s in &panel.series {
+        let colour = PALETTE[s.style.colour % PALETTE.len()];
+        let runs = finite_runs(&s.points);
+        let mut first = true;
+        // An all-non-finite (or empty) series still gets its legend entry.
+        let empty: Vec<(f64, f64)> = Vec::new();
+        let runs: Vec<&[(f64, f64)]> = if runs.is_empty() {
+            vec![&empty[..]]
+        } else {
+            runs
+        };
+        for run in runs {
+            let line = ShapeStyle::from(&colour).stroke_width(2);
+            let anno = match s.style.stroke {
+                Stroke::Solid => chart.draw_series(LineSeries::new(run.iter().copied(), line))?,
+                Stroke::Dashed => {
+                    chart.draw_series(DashedLineSeries::new(run.iter().copied(), 8, 5, line))?
+                }
+                Stroke::Points => chart.draw_series(
+                    run.iter()
+                        .map(|&p| Circle::new(p, 3, ShapeStyle::from(&colour).filled())),
+                )?,
+            };
+            if first && !s.label.is_empty() {
+                has_legend = true;
+                set_legend(anno.label(s.label.as_str()), s.style.stroke, colour);
+            }
+            first = false;
+        }
+    }
+    let grey = RGBColor(90, 90, 90);
+    for (y, label) in &panel.hlines {
+        if !y.is_finite() {
+            continue;
+        }
+        let style = ShapeStyle::from(&grey).stroke_width(1);
+        let anno = chart.draw_series(DashedLineSeries::new(
+            [(x_range.start, *y), (x_range.end, *y)],
+            6,
+            4,
+            style,
+        ))?;
+        if !label.is_empty() {
+            has_legend = true;
+            set_legend(anno.label(label.as_str()), Stroke::Dashed, grey);
+        }
+    }
+    if has_legend {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(160, 160, 160))
+            .label_font(("sans-serif", 13))
+            .draw()?;
+    }
+    Ok(())
+}
+
+/// Sets the legend mark of a series: a short line, a dashed line or a dot.
+fn set_legend<'a, DB: DrawingBackend + 'a>(
+    anno: &mut SeriesAnno<'a, DB>,
+    stroke: Stroke,
+    colour: RGBColor,
+) {
+    let line = ShapeStyle::from(&colour).stroke_width(2);
+    match stroke {
+        Stroke::Solid => {
+            anno.legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], line));
+        }
+        Stroke::Dashed => {
+            anno.legend(move |(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(0, 0), (7, 0)], line)
+                    + PathElement::new(vec![(12, 0), (20, 0)], line)
+            });
+        }
+        Stroke::Points => {
+            let dot = ShapeStyle::from(&colour).filled();
+            anno.legend(move |(x, y)| Circle::new((x + 10, y), 3, dot));
+        }
+    }
+}
+
+/// Maximal runs of consecutive finite points.
+fn finite_runs(points: &[(f64, f64)]) -> Vec<&[(f64, f64)]> {
+    points
+        .split(|p| !(p.0.is_finite() && p.1.is_finite()))
+        .filter(|r| !r.is_empty())
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_handle_empty_constant_and_non_finite() {
+        assert_eq!(padded_range(std::iter::empty(), 0.05), 0.0..1.0);
+        assert_eq!(
+            padded_range([f64::NAN, f64::INFINITY].into_iter(), 0.05),
+            0.0..1.0
+        );
+        assert_eq!(padded_range([0.0, 0.0].into_iter(), 0.05), -1.0..1.0);
+        let r = padded_range([2.0, 2.0].into_iter(), 0.05);
+        assert!((r.start - 1.8).abs() < 1e-12 && (r.end - 2.2).abs() < 1e-12);
+        let r = padded_range([0.0, f64::NAN, 10.0].into_iter(), 0.05);
+        assert!((r.start + 0.5).abs() < 1e-12 && (r.end - 10.5).abs() < 1e-12);
+        let r = padded_range([f64::MAX, -f64::MAX].into_iter(), 0.05);
+        assert!(r.start.is_finite() && r.end.is_finite() && r.start < r.end);
+    }
+
+    #[test]
+    fn runs_break_at_non_finite_points() {
+        let p = [(0.0, 1.0), (1.0, f64::NAN), (2.0, 3.0), (3.0, 4.0)];
+        let runs = finite_runs(&p);
+        assert_eq!(runs.len(), 2);
+        assert_eq!(runs[1], &p[2..]);
+    }
+
+    #[test]
+    fn tick_labels_follow_spacing() {
+        assert_eq!(tick_label(0.25, 1.0), "0.25");
+        assert_eq!(tick_label(3.0, 100.0), "3");
+        assert_eq!(tick_label(1.5e-6, 1e-5), "1.50e-6");
+    }
+}

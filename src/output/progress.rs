@@ -1,0 +1,98 @@
+//! A progress bar for the run: step, simulated time and estimated time left, on stderr.
+//!
+//! Owns only the terminal display (through `indicatif`). The bar is drawn only when it is
+//! enabled *and* stderr is a terminal (`std::io::IsTerminal`); otherwise (a pipe, a file, CI)
+//! nothing is drawn, so logs stay clean. Messages given to [`Progress::println`] are always
+//! written to stderr, one per line: above the bar when it is drawn, plainly otherwise.
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+
+const TEMPLATE: &str =
+    "[{elapsed_precise}] {bar:30.cyan/blue} step {pos}/{len}  t = {msg}  ETA {eta}";
+
+/// Progress of a run of `total_steps` steps.
+pub struct Progress {
+    bar: ProgressBar,
+    drawn: bool,
+}
+
+impl Progress {
+    /// A bar over `total_steps` steps, drawn only if `enabled` and stderr is a terminal.
+    pub fn new(total_steps: usize, enabled: bool) -> Self {
+        Self::with_terminal(total_steps, enabled && std::io::stderr().is_terminal())
+    }
+
+    fn with_terminal(total_steps: usize, drawn: bool) -> Self {
+        let target = if drawn {
+            ProgressDrawTarget::stderr()
+        } else {
+            ProgressDrawTarget::hidden()
+        };
+        let bar = ProgressBar::with_draw_target(Some(total_steps as u64), target);
+        if let Ok(style) = ProgressStyle::with_template(TEMPLATE) {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        Self { bar, drawn }
+    }
+
+    /// Whether the bar is drawn.
+    pub fn is_drawn(&self) -> bool {
+        self.drawn
+    }
+
+    /// Reports that `step` steps are done and the simulated time is `time` (s).
+    pub fn set(&self, step: usize, time: f64) {
+        self.bar.set_position(step as u64);
+        if self.drawn {
+            self.bar.set_message(format!("{time:.6e} s"));
+        }
+    }
+
+    /// Current step as last set.
+    pub fn position(&self) -> usize {
+        self.bar.position() as usize
+    }
+
+    /// Prints one line of text on stderr without breaking the bar.
+    pub fn println(&self, msg: impl AsRef<str>) {
+        if self.drawn {
+            self.bar.println(msg);
+        } else {
+            eprintln!("{}", msg.as_ref());
+        }
+    }
+
+    /// Leaves the bar in its final state (drawn bars stay on screen).
+    pub fn finish(&self) {
+        self.bar.finish();
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
+        if !self.bar.is_finished() {
+            self.bar.abandon();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Progress;
+
+    #[test]
+    fn hidden_bar_tracks_position_without_drawing() {
+        let p = Progress::with_terminal(10, false);
+        assert!(!p.is_drawn());
+        p.set(3, 0.25);
+        assert_eq!(p.position(), 3);
+        p.finish();
+    }
+
+    #[test]
+    fn disabled_is_never_drawn() {
+        // Whatever stderr is, a disabled bar is not drawn.
+        assert!(!Progress::new(5, false).is_drawn());
+    }
+}

@@ -1,0 +1,602 @@
+//! VTK XML unstructured grids (`.vtu`) and their time collections (`.pvd`), for ParaView.
+//!
+//! Owns the file format only: a [`Grid`] is plain data (points, cells, arrays) that the
+//! simulation fills; nothing here knows about blocks or contacts.
+//!
+//! # Conventions
+//! * Points are 2-D; every point is written with `z = 0` (VTK points always have 3
+//!   coordinates).
+//! * Cell kinds and their VTK type codes: [`CellKind::Vertex`] = 1 (one point),
+//!   [`CellKind::Line`] = 3 (two points), [`CellKind::Polygon`] = 7 (three or more points, in
+//!   order around the boundary, counter-clockwise by the project's convention).
+//! * A data array holds `n_tuples × components` values, tuple after tuple. A 2-component array
+//!   flagged as a vector ([`DataArray::vector2`]) is written with 3 components, `z = 0`, so
+//!   that ParaView treats it as a vector (glyphs, "Warp By Vector"). Other multi-component
+//!   arrays (e.g. a plane stress `σxx, σyy, σxy`) carry their component names as the VTK
+//!   attributes `ComponentName0…`, shown by ParaView instead of `0, 1, 2`.
+//!
+//! # Encoding (VTK file format, "XML file formats", `format="binary"` inline data)
+//! The file header is `<VTKFile type="UnstructuredGrid" version="1.0"
+//! byte_order="LittleEndian" header_type="UInt64">`. With [`Encoding::Binary`] (the default)
+//! each `DataArray` body is the base64 encoding (standard alphabet, padded) of one stream
+//! `[n_bytes: u64 little-endian][raw little-endian values]`, where `n_bytes` is the length of
+//! the raw values in bytes (no compression). With [`Encoding::Ascii`] the values are written
+//! as text, shortest round-trip decimals, separated by spaces.
+//!
+//! Cells are described by `connectivity` (Int64, point indices of all cells concatenated),
+//! `offsets` (Int64, for each cell the index in `connectivity` one past its last point) and
+//! `types` (UInt8, the type codes above). An empty grid (no points, no cells) is valid: its
+//! arrays are empty.
+//!
+//! # Collections
+//! [`PvdWriter`] keeps the list of `(time, file)` frames and rewrites the whole `.pvd` after
+//! each [`PvdWriter::add`], through a temporary file renamed over the old one, so that the
+//! collection on disk is always complete and valid even if the run is interrupted. Write a
+//! frame's `.vtu` first, then add it: the collection then never names a half-written frame.
+
+use base64::Engine;
+use std::fs::File;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// The kind of a cell, with its VTK type code.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CellKind {
+    /// One point (VTK_VERTEX = 1).
+    Vertex,
+    /// Two points (VTK_LINE = 3).
+    Line,
+    /// Three or more points around a boundary (VTK_POLYGON = 7).
+    Polygon,
+}
+
+impl CellKind {
+    /// The VTK cell type code.
+    pub fn vtk_type(self) -> u8 {
+        match self {
+            CellKind::Vertex => 1,
+            CellKind::Line => 3,
+            CellKind::Polygon => 7,
+        }
+    }
+
+    fn accepts(self, n: usize) -> bool {
+        match self {
+            CellKind::Vertex => n == 1,
+            CellKind::Line => n == 2,
+            CellKind::Polygon => n >= 3,
+        }
+    }
+}
+
+/// One cell: its kind and the indices of its points in [`Grid::points`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cell {
+    pub kind: CellKind,
+    pub points: Vec<usize>,
+}
+
+impl Cell {
+    pub fn vertex(p: usize) -> Self {
+        Self {
+            kind: CellKind::Vertex,
+            points: vec![p],
+        }
+    }
+    pub fn line(a: usize, b: usize) -> Self {
+        Self {
+            kind: CellKind::Line,
+            points: vec![a, b],
+        }
+    }
+    pub fn polygon(points: Vec<usize>) -> Self {
+        Self {
+            kind: CellKind::Polygon,
+            points,
+        }
+    }
+}
+
+/// The values of a data array.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Values {
+    Float64(Vec<f64>),
+    Int32(Vec<i32>),
+}
+
+impl Values {
+    fn len(&self) -> usize {
+        match self {
+            Values::Float64(v) => v.len(),
+            Values::Int32(v) => v.len(),
+        }
+    }
+}
+
+/// A named array attached to the points or to the cells of a [`Grid`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct DataArray {
+    /// Name shown by ParaView; unique among the point (or cell) arrays of a grid.
+    pub name: String,
+    /// Values per tuple in `values` (1 to 9).
+    pub components: usize,
+    /// Write a 2-component array as a 3-component vector with `z = 0`.
+    pub vector2: bool,
+    /// Optional names of the components (empty, or one per component as stored).
+    pub component_names: Vec<String>,
+    pub values: Values,
+}
+
+impl DataArray {
+    /// One `f64` per point or cell.
+    pub fn scalars(name: impl Into<String>, values: Vec<f64>) -> Self {
+        Self {
+            name: name.into(),
+            components: 1,
+            vector2: false,
+            component_names: Vec::new(),
+            values: Values::Float64(values),
+        }
+    }
+
+    /// A 2-D vector per point or cell (`x0, y0, x1, y1, …`), written with `z = 0`.
+    pub fn vector2(name: impl Into<String>, values: Vec<f64>) -> Self {
+        Self {
+            name: name.into(),
+            components: 2,
+            vector2: true,
+            component_names: Vec::new(),
+            values: Values::Float64(values),
+        }
+    }
+
+    /// `component_names.len()` values per point or cell, named (e.g. `sxx, syy, sxy`).
+    pub fn named_components(
+        name: impl Into<String>,
+        component_names: &[&str],
+        values: Vec<f64>,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            components: component_names.len(),
+            vector2: false,
+            component_names: component_names.iter().map(|s| s.to_string()).collect(),
+            values: Values::Float64(values),
+        }
+    }
+
+    /// One `i32` per point or cell (block id, contact state, …).
+    pub fn int32(name: impl Into<String>, values: Vec<i32>) -> Self {
+        Self {
+            name: name.into(),
+            components: 1,
+            vector2: false,
+            component_names: Vec::new(),
+            values: Values::Int32(values),
+        }
+    }
+
+    /// Number of components as written to the file.
+    pub fn written_components(&self) -> usize {
+        if self.vector2 {
+            3
+        } else {
+            self.components
+        }
+    }
+}
+
+/// An unstructured grid: 2-D points, cells over them, and arrays on points and cells.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Grid {
+    pub points: Vec<[f64; 2]>,
+    pub cells: Vec<Cell>,
+    pub point_data: Vec<DataArray>,
+    pub cell_data: Vec<DataArray>,
+}
+
+/// How data array bodies are written.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Encoding {
+    /// Inline base64 of `[u64 byte count][little-endian values]` (compact, exact).
+    #[default]
+    Binary,
+    /// Space-separated text, shortest round-trip decimals (readable, larger).
+    Ascii,
+}
+
+/// Writes `grid` to `path` as a VTK XML unstructured grid, base64 binary.
+pub fn write_vtu(path: &Path, grid: &Grid) -> io::Result<()> {
+    write_vtu_with(path, grid, Encoding::Binary)
+}
+
+/// Writes `grid` to `path` with the chosen encoding. The grid is checked first (indices in
+/// range, point counts per cell kind, array lengths, names); nothing is written if it is
+/// invalid.
+pub fn write_vtu_with(path: &Path, grid: &Grid, encoding: Encoding) -> io::Result<()> {
+    validate(grid)?;
+    let mut w = BufWriter::new(File::create(path)?);
+    write_valid_grid(&mut w, grid, encoding)?;
+    w.flush()
+}
+
+/// Writes `grid` as VTK XML to any writer (see [`write_vtu_with`]).
+pub fn write_grid<W: Write>(w: &mut W, grid: &Grid, encoding: Encoding) -> io::Result<()> {
+    validate(grid)?;
+    write_valid_grid(w, grid, encoding)
+}
+
+fn write_valid_grid<W: Write>(w: &mut W, grid: &Grid, encoding: Encoding) -> io::Result<()> {
+    let n_points = grid.points.len();
+    let n_cells = grid.cells.len();
+    writeln!(w, r#"<?xml version="1.0"?>"#)?;
+    writeln!(
+        w,
+        r#"<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">"#
+    )?;
+    writeln!(w, "  <UnstructuredGrid>")?;
+    writeln!(
+        w,
+        r#"    <Piece NumberOfPoints="{n_points}" NumberOfCells="{n_cells}">"#
+    )?;
+
+    writeln!(w, "      <PointData>")?;
+    for a in &grid.point_data {
+        write_data_array(w, a, encoding)?;
+    }
+    writeln!(w, "      </PointData>")?;
+    writeln!(w, "      <CellData>")?;
+    for a in &grid.cell_data {
+        write_data_array(w, a, encoding)?;
+    }
+    writeln!(w, "      </CellData>")?;
+
+    writeln!(w, "      <Points>")?;
+    let mut xyz = grid.points.iter().flat_map(|p| [p[0], p[1], 0.0]);
+    write_raw_array(
+        w,
+        "Points",
+        "Float64",
+        3,
+        &[],
+        encoding,
+        Raw::F64(&mut xyz),
+        3 * n_points,
+    )?;
+    writeln!(w, "      </Points>")?;
+
+    writeln!(w, "      <Cells>")?;
+    let n_conn: usize = grid.cells.iter().map(|c| c.points.len()).sum();
+    let mut conn = grid
+        .cells
+        .iter()
+        .flat_map(|c| c.points.iter().map(|&i| i as i64));
+    write_raw_array(
+        w,
+        "connectivity",
+        "Int64",
+        1,
+        &[],
+        encoding,
+        Raw::I64(&mut conn),
+        n_conn,
+    )?;
+    let mut offsets = grid.cells.iter().scan(0i64, |end, c| {
+        *end += c.points.len() as i64;
+        Some(*end)
+    });
+    write_raw_array(
+        w,
+        "offsets",
+        "Int64",
+        1,
+        &[],
+        encoding,
+        Raw::I64(&mut offsets),
+        n_cells,
+    )?;
+    let mut types = grid.cells.iter().map(|c| c.kind.vtk_type());
+    write_raw_array(
+        w,
+        "types",
+        "UInt8",
+        1,
+        &[],
+        encoding,
+        Raw::U8(&mut types),
+        n_cells,
+    )?;
+    writeln!(w, "      </Cells>")?;
+
+    writeln!(w, "    </Piece>")?;
+    writeln!(w, "  </UnstructuredGrid>")?;
+    writeln!(w, "</VTKFile>")?;
+    Ok(())
+}
+
+fn validate(grid: &Grid) -> io::Result<()> {
+    let n_points = grid.points.len();
+    for (k, p) in grid.points.iter().enumerate() {
+        if !(p[0].is_finite() && p[1].is_finite()) {
+            return Err(invalid(format!("point {k} has a non-finite coordinate")));
+        }
+    }
+    for (k, c) in grid.cells.iter().enumerate() {
+        if !c.kind.accepts(c.points.len()) {
+            return Err(invalid(format!(
+                "cell {k} ({:?}) has {} points",
+                c.kind,
+                c.points.len()
+            )));
+        }
+        if let Some(&i) = c.points.iter().find(|&&i| i >= n_points) {
+            return Err(invalid(format!(
+                "cell {k} refers to point {i}, the grid has {n_points} points"
+            )));
+        }
+    }
+    check_arrays("point", &grid.point_data, n_points)?;
+    check_arrays("cell", &grid.cell_data, grid.cells.len())
+}
+
+fn check_arrays(place: &str, arrays: &[DataArray], n_tuples: usize) -> io::Result<()> {
+    for (k, a) in arrays.iter().enumerate() {
+        if a.name.is_empty() {
+            return Err(invalid(format!("{place} array {k} has no name")));
+        }
+        if arrays[..k].iter().any(|b| b.name == a.name) {
+            return Err(invalid(format!("{place} array `{}` appears twice", a.name)));
+        }
+        if !(1..=9).contains(&a.components) {
+            return Err(invalid(format!(
+                "{place} array `{}` has {} components (1 to 9 allowed)",
+                a.name, a.components
+            )));
+        }
+        if a.vector2 && (a.components != 2 || !matches!(a.values, Values::Float64(_))) {
+            return Err(invalid(format!(
+                "{place} array `{}` is flagged as a 2-D vector but is not 2-component Float64",
+                a.name
+            )));
+        }
+        if !a.component_names.is_empty() && a.component_names.len() != a.components {
+            return Err(invalid(format!(
+                "{place} array `{}` has {} component names for {} components",
+                a.name,
+                a.component_names.len(),
+                a.components
+            )));
+        }
+        if a.values.len() != n_tuples * a.components {
+            return Err(invalid(format!(
+                "{place} array `{}` has {} values, expected {} ({} tuples × {} components)",
+                a.name,
+                a.values.len(),
+                n_tuples * a.components,
+                n_tuples,
+                a.components
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn write_data_array<W: Write>(w: &mut W, a: &DataArray, encoding: Encoding) -> io::Result<()> {
+    let names: Vec<&str> = a.component_names.iter().map(String::as_str).collect();
+    match &a.values {
+        Values::Float64(v) if a.vector2 => {
+            let mut it = v.chunks_exact(2).flat_map(|c| [c[0], c[1], 0.0]);
+            let n = v.len() / 2 * 3;
+            write_raw_array(
+                w,
+                &a.name,
+                "Float64",
+                3,
+                &names,
+                encoding,
+                Raw::F64(&mut it),
+                n,
+            )
+        }
+        Values::Float64(v) => {
+            let mut it = v.iter().copied();
+            write_raw_array(
+                w,
+                &a.name,
+                "Float64",
+                a.components,
+                &names,
+                encoding,
+                Raw::F64(&mut it),
+                v.len(),
+            )
+        }
+        Values::Int32(v) => {
+            let mut it = v.iter().copied();
+            write_raw_array(
+                w,
+                &a.name,
+                "Int32",
+                a.components,
+                &names,
+                encoding,
+                Raw::I32(&mut it),
+                v.len(),
+            )
+        }
+    }
+}
+
+/// A stream of values of one VTK type.
+enum Raw<'a> {
+    F64(&'a mut dyn Iterator<Item = f64>),
+    I64(&'a mut dyn Iterator<Item = i64>),
+    I32(&'a mut dyn Iterator<Item = i32>),
+    U8(&'a mut dyn Iterator<Item = u8>),
+}
+
+#[allow(clippy::too_many_arguments)]
+fn write_raw_array<W: Write>(
+    w: &mut W,
+    name: &str,
+    vtk_type: &str,
+    components: usize,
+    component_names: &[&str],
+    encoding: Encoding,
+    values: Raw<'_>,
+    n_values: usize,
+) -> io::Result<()> {
+    let format = match encoding {
+        Encoding::Binary => "binary",
+        Encoding::Ascii => "ascii",
+    };
+    write!(
+        w,
+        r#"        <DataArray type="{vtk_type}" Name="{}" NumberOfComponents="{components}""#,
+        escape(name)
+    )?;
+    for (i, c) in component_names.iter().enumerate() {
+        write!(w, r#" ComponentName{i}="{}""#, escape(c))?;
+    }
+    write!(w, r#" format="{format}">"#)?;
+    match encoding {
+        Encoding::Binary => {
+            let width = match values {
+                Raw::F64(_) | Raw::I64(_) => 8,
+                Raw::I32(_) => 4,
+                Raw::U8(_) => 1,
+            };
+            let n_bytes = n_values * width;
+            let mut bytes = Vec::with_capacity(8 + n_bytes);
+            bytes.extend_from_slice(&(n_bytes as u64).to_le_bytes());
+            match values {
+                Raw::F64(it) => it.for_each(|v| bytes.extend_from_slice(&v.to_le_bytes())),
+                Raw::I64(it) => it.for_each(|v| bytes.extend_from_slice(&v.to_le_bytes())),
+                Raw::I32(it) => it.for_each(|v| bytes.extend_from_slice(&v.to_le_bytes())),
+                Raw::U8(it) => it.for_each(|v| bytes.push(v)),
+            }
+            debug_assert_eq!(bytes.len(), 8 + n_bytes);
+            w.write_all(
+                base64::engine::general_purpose::STANDARD
+                    .encode(&bytes)
+                    .as_bytes(),
+            )?;
+        }
+        Encoding::Ascii => {
+            let mut s = String::new();
+            let push = |s: &mut String, first: &mut bool| {
+                if !*first {
+                    s.push(' ');
+                }
+                *first = false;
+            };
+            let mut first = true;
+            match values {
+                Raw::F64(it) => it.for_each(|v| {
+                    push(&mut s, &mut first);
+                    super::history::format_f64(v, &mut s);
+                }),
+                Raw::I64(it) => it.for_each(|v| {
+                    push(&mut s, &mut first);
+                    s.push_str(&v.to_string());
+                }),
+                Raw::I32(it) => it.for_each(|v| {
+                    push(&mut s, &mut first);
+                    s.push_str(&v.to_string());
+                }),
+                Raw::U8(it) => it.for_each(|v| {
+                    push(&mut s, &mut first);
+                    s.push_str(&v.to_string());
+                }),
+            }
+            w.write_all(s.as_bytes())?;
+        }
+    }
+    writeln!(w, "</DataArray>")
+}
+
+/// Escapes the five XML special characters for use in an attribute value.
+fn escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+fn invalid(msg: String) -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidInput, msg)
+}
+
+/// A ParaView collection (`.pvd`) of time frames, rewritten after every addition.
+pub struct PvdWriter {
+    path: PathBuf,
+    frames: Vec<(f64, String)>,
+}
+
+impl PvdWriter {
+    /// Creates the collection at `path` and writes it (empty) at once.
+    pub fn new(path: &Path) -> io::Result<Self> {
+        let w = Self {
+            path: path.to_path_buf(),
+            frames: Vec::new(),
+        };
+        w.rewrite()?;
+        Ok(w)
+    }
+
+    /// Adds a frame at `time` whose file is `file` (relative to the `.pvd`'s folder, `/` as
+    /// separator), then rewrites the collection.
+    pub fn add(&mut self, time: f64, file: &str) -> io::Result<()> {
+        if !time.is_finite() {
+            return Err(invalid(format!("frame time {time} is not finite")));
+        }
+        if file.is_empty() {
+            return Err(invalid("frame file name is empty".to_string()));
+        }
+        self.frames.push((time, file.to_string()));
+        self.rewrite()
+    }
+
+    /// The frames added so far.
+    pub fn frames(&self) -> &[(f64, String)] {
+        &self.frames
+    }
+
+    /// Path of the collection file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    fn rewrite(&self) -> io::Result<()> {
+        let mut s = String::new();
+        s.push_str("<?xml version=\"1.0\"?>\n");
+        s.push_str("<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n");
+        s.push_str("  <Collection>\n");
+        for (time, file) in &self.frames {
+            s.push_str("    <DataSet timestep=\"");
+            super::history::format_f64(*time, &mut s);
+            s.push_str("\" group=\"\" part=\"0\" file=\"");
+            s.push_str(&escape(file));
+            s.push_str("\"/>\n");
+        }
+        s.push_str("  </Collection>\n");
+        s.push_str("</VTKFile>\n");
+        let mut tmp = self.path.clone().into_os_string();
+        tmp.push(".tmp");
+        let tmp = PathBuf::from(tmp);
+        {
+            let mut f = File::create(&tmp)?;
+            f.write_all(s.as_bytes())?;
+            f.flush()?;
+        }
+        std::fs::rename(&tmp, &self.path)
+    }
+}

@@ -10,14 +10,14 @@
 //!   axis named by `component` (`"x"` → ax, `"y"` → ay).
 //! * Time must be strictly increasing; every value finite.
 
-use super::{err_at, parse_number, shorten, single_component};
+use super::{err_at, parse_number, shorten, single_component, Place};
 
 /// Parse CSV text (see the module doc). `file` names the file in errors.
 pub fn parse(file: &str, text: &str, component: &str) -> Result<Vec<[f64; 3]>, String> {
     let mut samples: Vec<[f64; 3]> = Vec::new();
     let mut ncols: Option<usize> = None;
     let mut seen_first = false;
-    let mut place: Option<fn(f64, f64) -> [f64; 3]> = None;
+    let mut place: Option<Place> = None;
     let mut last_line = 0;
     for (idx, raw) in text.lines().enumerate() {
         let line_no = idx + 1;

@@ -147,11 +147,11 @@ pub(crate) fn shorten(tok: &str) -> String {
     }
 }
 
+/// Builds a sample `(t, ax, ay)` from the time and one acceleration component.
+pub(crate) type Place = fn(f64, f64) -> [f64; 3];
+
 /// Place a single-component acceleration on the axis named by `component`.
-pub(crate) fn single_component(
-    file: &str,
-    component: &str,
-) -> Result<fn(f64, f64) -> [f64; 3], String> {
+pub(crate) fn single_component(file: &str, component: &str) -> Result<Place, String> {
     match component.trim() {
         "x" | "X" => Ok(|t, a| [t, a, 0.0]),
         "y" | "Y" => Ok(|t, a| [t, 0.0, a]),

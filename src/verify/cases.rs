@@ -83,15 +83,18 @@ pub fn patch(angle: f64, h: f64, offset: [f64; 2]) -> Result<PatchErrors, String
         loads += &format!("[[load]]\nblock = \"b\"\nedge = {}\ntraction = {}\n", poly(&[a, b]), point(t));
     }
     let (pa, pb) = (pts[0], pts[1]);
+    // the second point fixes the rotation: constrain its displacement across a→b
+    let across_x = (pb[1] - pa[1]).abs() > (pb[0] - pa[0]).abs();
     let text = format!(
         "[analysis]\nmode = \"static\"\ndt = 1000.0\nsteps = 1\n[cover]\nsize = {h}\n{}\
          [[block]]\nname = \"b\"\nmaterial = \"m\"\nvertices = {}\n{loads}\
          [[constraint]]\nblock = \"b\"\npoint = {}\nux = 0.0\nuy = 0.0\n\
-         [[constraint]]\nblock = \"b\"\npoint = {}\nuy = 0.0\n",
+         [[constraint]]\nblock = \"b\"\npoint = {}\n{} = 0.0\n",
         material(e, nu, 2000.0, "stress"),
         poly(&pts),
         point(pa),
-        point(pb)
+        point(pb),
+        if across_x { "ux" } else { "uy" }
     );
     let mut sim = simulate(&text)?;
     // material points at every element vertex, located before the step
@@ -110,7 +113,8 @@ pub fn patch(angle: f64, h: f64, offset: [f64; 2]) -> Result<PatchErrors, String
         let d = [x[0] - pa[0], x[1] - pa[1]];
         [eps[0] * d[0] + 0.5 * eps[2] * d[1] - om * d[1], 0.5 * eps[2] * d[0] + eps[1] * d[1] + om * d[0]]
     };
-    let om = -lin(pb, 0.0)[1] / (pb[0] - pa[0]);
+    // rotation ω such that the constrained component of u(b) vanishes
+    let om = if across_x { lin(pb, 0.0)[0] / (pb[1] - pa[1]) } else { -lin(pb, 0.0)[1] / (pb[0] - pa[0]) };
     let umax = pts.iter().map(|p| lin(*p, om)).fold(0.0f64, |m, u| m.max(u[0].abs()).max(u[1].abs()));
     let displacement = probes
         .iter()
@@ -125,13 +129,13 @@ pub fn patch(angle: f64, h: f64, offset: [f64; 2]) -> Result<PatchErrors, String
 
 /// Rollers by edge penalty on the left and bottom edges, uniform tension σ on the right
 /// edge (ν = 0). Returns (max relative stress error, relative error of the right edge's
-/// displacement against σ w/E shifted by the stated penalty stretch −σ/p, p = 1e6 E/h).
-pub fn roller_patch(h: f64) -> Result<(f64, f64), String> {
+/// displacement against σ w/E shifted by the stated penalty stretch +σ/p, p = factor·E/h).
+pub fn roller_patch(h: f64, factor: f64) -> Result<(f64, f64), String> {
     let (e, sx) = (1.0e9, 1.0e6);
     let (x0, y0, w, ht) = (0.031, 0.017, 1.0, 0.5);
     let (x1, y1) = (x0 + w, y0 + ht);
     let text = format!(
-        "[analysis]\nmode = \"static\"\ndt = 1000.0\nsteps = 1\n[cover]\nsize = {h}\n{}\
+        "[analysis]\nmode = \"static\"\ndt = 1000.0\nsteps = 1\nconstraint_penalty = {factor}\n[cover]\nsize = {h}\n{}\
          [[block]]\nname = \"b\"\nmaterial = \"m\"\nvertices = [[{x0}, {y0}], [{x1}, {y0}], [{x1}, {y1}], [{x0}, {y1}]]\n\
          [[load]]\nblock = \"b\"\nedge = [[{x1}, {y0}], [{x1}, {y1}]]\ntraction = [{sx}, 0.0]\n\
          [[constraint]]\nblock = \"b\"\nedge = [[{x0}, {y0}], [{x0}, {y1}]]\nux = 0.0\n\
@@ -143,7 +147,8 @@ pub fn roller_patch(h: f64) -> Result<(f64, f64), String> {
     let mut sim = simulate(&text)?;
     run_to_end(&mut sim)?;
     let stress = sim.stress.iter().map(|s| (s[0] - sx).abs().max(s[1].abs()).max(s[2].abs()) / sx).fold(0.0, f64::max);
-    let want = sx / e * w - sx / (sim.model.analysis.constraint_penalty * e / h);
+    // the left roller stretches by σ/p toward +x under its reaction
+    let want = sx / e * w + sx / (sim.model.analysis.constraint_penalty * e / h);
     let u = monitor_values(&sim)[0];
     Ok((stress, ((u - want) / want).abs()))
 }

@@ -169,7 +169,11 @@ pub fn degeneracy(poly: &[Vec2], tol: f64) -> Option<Degeneracy> {
     }
     let (la, lb) = (poly[ia], poly[ib]);
     let len = dist(la, lb);
-    if len > 0.0 && poly.iter().all(|&p| (cross(sub(lb, la), sub(p, la)) / len).abs() <= tol) {
+    if len > 0.0
+        && poly
+            .iter()
+            .all(|&p| (cross(sub(lb, la), sub(p, la)) / len).abs() <= tol)
+    {
         return Some(Degeneracy::Collinear);
     }
     for i in 0..n {
@@ -209,7 +213,8 @@ pub fn segments_cross_properly(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> bool {
     let o2 = cross(sub(b, a), sub(d, a));
     let o3 = cross(sub(d, c), sub(a, c));
     let o4 = cross(sub(d, c), sub(b, c));
-    ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0)) && ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0))
+    ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0))
+        && ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0))
 }
 
 /// The first pair of edges `(i, j)`, `i < j`, that intersect where they
@@ -236,12 +241,14 @@ pub fn self_intersection(poly: &[Vec2], tol: f64) -> Option<(usize, usize)> {
             let (c, d) = edge(poly, j);
             if j == i + 1 {
                 // Shared vertex b == c: they overlap if a far end lies on the other edge.
-                if point_segment_distance(a, c, d) <= tol || point_segment_distance(d, a, b) <= tol {
+                if point_segment_distance(a, c, d) <= tol || point_segment_distance(d, a, b) <= tol
+                {
                     return Some((i, j));
                 }
             } else if i == 0 && j == n - 1 {
                 // Shared vertex a == d.
-                if point_segment_distance(b, c, d) <= tol || point_segment_distance(c, a, b) <= tol {
+                if point_segment_distance(b, c, d) <= tol || point_segment_distance(c, a, b) <= tol
+                {
                     return Some((i, j));
                 }
             } else if segment_segment_distance(a, b, c, d) <= tol {
@@ -303,7 +310,10 @@ pub fn polygons_overlap(p: &[Vec2], q: &[Vec2], tol: f64) -> bool {
     if p.len() < 3 || q.len() < 3 {
         return false;
     }
-    if !Aabb::of_points(p).inflate(-tol).overlaps(&Aabb::of_points(q)) {
+    if !Aabb::of_points(p)
+        .inflate(-tol)
+        .overlaps(&Aabb::of_points(q))
+    {
         return false;
     }
     let (p_in_q, p_all_on) = classify_boundary(p, q, tol);
@@ -388,7 +398,14 @@ mod tests {
         assert_eq!(signed_area(&sq), 4.0);
         assert!(!orient_ccw(&mut sq));
         // L-shape: area 3.
-        let l = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        let l = [
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
         assert_eq!(signed_area(&l), 3.0);
         // Far from the origin: still exact for this representable square.
         assert_eq!(signed_area(&square(1e6, 1e6, 0.5)), 0.25);
@@ -415,11 +432,24 @@ mod tests {
         assert_eq!(point_in_polygon(&sq, [0.5, 0.5], TOL), Location::Inside);
         assert_eq!(point_in_polygon(&sq, [1.5, 0.5], TOL), Location::Outside);
         assert_eq!(point_in_polygon(&sq, [1.0, 0.5], TOL), Location::Boundary);
-        assert_eq!(point_in_polygon(&sq, [1.0 + 1e-10, 0.5], TOL), Location::Boundary);
-        assert_eq!(point_in_polygon(&sq, [1.0 + 1e-6, 0.5], TOL), Location::Outside);
+        assert_eq!(
+            point_in_polygon(&sq, [1.0 + 1e-10, 0.5], TOL),
+            Location::Boundary
+        );
+        assert_eq!(
+            point_in_polygon(&sq, [1.0 + 1e-6, 0.5], TOL),
+            Location::Outside
+        );
         assert_eq!(point_in_polygon(&sq, [0.0, 0.0], TOL), Location::Boundary);
         // Ray through a vertex of a non-convex polygon.
-        let l = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        let l = [
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
         assert_eq!(point_in_polygon(&l, [0.5, 1.0], TOL), Location::Inside);
         assert_eq!(point_in_polygon(&l, [1.5, 1.5], TOL), Location::Outside);
         assert_eq!(point_in_polygon(&l, [-1.0, 1.0], TOL), Location::Outside);
@@ -433,7 +463,10 @@ mod tests {
     #[test]
     fn degenerate_polygons() {
         assert_eq!(degeneracy(&square(0.0, 0.0, 1.0), TOL), None);
-        assert_eq!(degeneracy(&[[0.0, 0.0], [1.0, 0.0]], TOL), Some(Degeneracy::TooFewVertices(2)));
+        assert_eq!(
+            degeneracy(&[[0.0, 0.0], [1.0, 0.0]], TOL),
+            Some(Degeneracy::TooFewVertices(2))
+        );
         assert_eq!(
             degeneracy(&[[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 1.0]], TOL),
             Some(Degeneracy::RepeatedVertex(1))
@@ -443,13 +476,23 @@ mod tests {
             degeneracy(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.0, 0.0]], TOL),
             Some(Degeneracy::RepeatedVertex(3))
         );
-        assert_eq!(degeneracy(&[[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]], TOL), Some(Degeneracy::Collinear));
+        assert_eq!(
+            degeneracy(&[[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]], TOL),
+            Some(Degeneracy::Collinear)
+        );
         assert_eq!(
             degeneracy(&[[0.0, 0.0], [1.0, 0.0], [3.0, 0.0], [2.0, 0.0]], TOL),
             Some(Degeneracy::Collinear)
         );
         // A zero-width spike.
-        let spike = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [1.0, 3.0], [1.0, 2.0], [0.0, 1.0]];
+        let spike = [
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [1.0, 3.0],
+            [1.0, 2.0],
+            [0.0, 1.0],
+        ];
         assert_eq!(degeneracy(&spike, TOL), Some(Degeneracy::FoldBack(3)));
         // A vertex in the middle of a straight edge is fine.
         let mid = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]];
@@ -477,7 +520,14 @@ mod tests {
         let spike = [[0.0, 0.0], [2.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
         assert!(self_intersection(&spike, TOL).is_some());
         // Non-convex but simple.
-        let l = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        let l = [
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
         assert_eq!(self_intersection(&l, TOL), None);
     }
 
@@ -487,18 +537,39 @@ mod tests {
         assert!(segment_on_boundary(&sq, [0.0, 1.0], [1.0, 1.0], TOL));
         assert!(segment_on_boundary(&sq, [1.0, 1.0], [0.0, 1.0], TOL));
         assert!(segment_on_boundary(&sq, [0.2, 0.0], [0.7, 0.0], TOL));
-        assert!(segment_on_boundary(&sq, [1.0, 0.1], [1.0, 0.9 + 1e-11], TOL));
+        assert!(segment_on_boundary(
+            &sq,
+            [1.0, 0.1],
+            [1.0, 0.9 + 1e-11],
+            TOL
+        ));
         assert!(!segment_on_boundary(&sq, [0.0, 0.5], [1.0, 0.5], TOL));
         assert!(!segment_on_boundary(&sq, [0.5, 1.0], [1.5, 1.0], TOL));
         // Around a corner: not a straight piece of boundary.
         assert!(!segment_on_boundary(&sq, [0.0, 0.0], [1.0, 1.0], TOL));
         assert!(!segment_on_boundary(&sq, [0.5, 0.5], [0.5, 0.5], TOL));
         // Several consecutive collinear edges.
-        let mid = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0], [3.0, 1.0], [0.0, 1.0]];
+        let mid = [
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [2.0, 0.0],
+            [3.0, 0.0],
+            [3.0, 1.0],
+            [0.0, 1.0],
+        ];
         assert!(segment_on_boundary(&mid, [0.5, 0.0], [2.5, 0.0], TOL));
         assert!(segment_on_boundary(&mid, [0.0, 0.0], [3.0, 0.0], TOL));
         // A U shape: the two prong tops are collinear but the gap is not boundary.
-        let u = [[0.0, 0.0], [3.0, 0.0], [3.0, 2.0], [2.0, 2.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        let u = [
+            [0.0, 0.0],
+            [3.0, 0.0],
+            [3.0, 2.0],
+            [2.0, 2.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
         assert!(segment_on_boundary(&u, [0.0, 2.0], [1.0, 2.0], TOL));
         assert!(!segment_on_boundary(&u, [0.0, 2.0], [3.0, 2.0], TOL));
     }
@@ -538,7 +609,14 @@ mod tests {
         r.reverse();
         assert!(polygons_overlap(&a, &r, TOL));
         // A block sitting in a notch of an L-shape: touching on two edges.
-        let l = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        let l = [
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
         assert!(!polygons_overlap(&l, &square(1.0, 1.0, 1.0), TOL));
         assert!(polygons_overlap(&l, &square(0.9, 0.9, 1.0), TOL));
         // Interpenetration shallower than tol is not overlap.

@@ -18,6 +18,8 @@
 //! panics on non-finite input; results for such input are unspecified but
 //! defined (NaN comparisons are simply false).
 
+// `!(x > tol)` is deliberate throughout: a NaN fails the test.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 use super::{cross, dist, dot, lerp, norm, sub, Aabb, Vec2};
 
 /// Signed area by the shoelace formula: positive when counter-clockwise.

@@ -258,7 +258,13 @@ pub(crate) fn array_of_tables<'a>(root: &'a Table, key: &str) -> R<Vec<&'a Table
 
 /// Turn a TOML syntax error into one line: `SOURCE: TOML syntax error at line L, column C: MESSAGE`.
 pub(crate) fn syntax_error(source: &str, text: &str, e: &toml::de::Error) -> ModelError {
-    let msg = e.message().lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join("; ");
+    let msg = e
+        .message()
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ");
     match e.span().and_then(|s| text.get(..s.start)) {
         Some(before) => {
             let line = before.matches('\n').count() + 1;

@@ -8,6 +8,8 @@
 //! vertex k+1, the last edge closes the polygon); `[[…]] #k` counts tables of
 //! one kind from 1.
 
+// `!(x > tol)` is deliberate throughout: a NaN fails the test.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 use super::reader::{
     array, array_of_tables, boolean, error, fmt_num, fmt_point, integer, number, pair, point,
     points, segment, string, table, Fields, R,

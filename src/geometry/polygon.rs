@@ -624,4 +624,55 @@ mod tests {
         // Interpenetration shallower than tol is not overlap.
         assert!(!polygons_overlap(&a, &square(1.0 - 1e-12, 0.0, 1.0), TOL));
     }
+
+    fn rect(x0: i32, y0: i32, w: i32, h: i32) -> Vec<Vec2> {
+        let (x0, y0, x1, y1) = (x0 as f64, y0 as f64, (x0 + w) as f64, (y0 + h) as f64);
+        vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
+    }
+
+    proptest::proptest! {
+        /// Axis-aligned rectangles on an integer grid (so touching is frequent):
+        /// overlap iff both interval intersections have positive length, whatever
+        /// the orientation and starting vertex of either polygon.
+        #[test]
+        fn rectangle_overlap_matches_intervals(
+            a in (0..6i32, 0..6i32, 1..5i32, 1..5i32),
+            b in (0..6i32, 0..6i32, 1..5i32, 1..5i32),
+            rot in 0..4usize,
+            rev in proptest::bool::ANY,
+        ) {
+            let p = rect(a.0, a.1, a.2, a.3);
+            let mut q = rect(b.0, b.1, b.2, b.3);
+            q.rotate_left(rot);
+            if rev {
+                q.reverse();
+            }
+            let ox = (a.0 + a.2).min(b.0 + b.2) - a.0.max(b.0);
+            let oy = (a.1 + a.3).min(b.1 + b.3) - a.1.max(b.1);
+            let expected = ox > 0 && oy > 0;
+            proptest::prop_assert_eq!(polygons_overlap(&p, &q, TOL), expected);
+            proptest::prop_assert_eq!(polygons_overlap(&q, &p, TOL), expected);
+        }
+
+        /// A sub-segment of any edge of a rectangle is on its boundary; the same
+        /// segment shifted inwards by more than the tolerance is not.
+        #[test]
+        fn edge_pieces_are_on_the_boundary(
+            a in (0..6i32, 0..6i32, 1..5i32, 1..5i32),
+            e in 0..4usize,
+            s in 0.0..0.5f64,
+            t in 0.5..1.0f64,
+        ) {
+            let p = rect(a.0, a.1, a.2, a.3);
+            let (u, v) = edge(&p, e);
+            let (m0, m1) = (lerp(u, v, s), lerp(u, v, t));
+            proptest::prop_assert!(segment_on_boundary(&p, m0, m1, TOL));
+            proptest::prop_assert!(segment_on_boundary(&p, m1, m0, TOL));
+            let c = lerp(p[0], p[2], 0.5);
+            let inward = |x: Vec2| lerp(x, c, 1e-3);
+            proptest::prop_assert!(!segment_on_boundary(&p, inward(m0), inward(m1), TOL));
+            proptest::prop_assert_eq!(point_in_polygon(&p, lerp(m0, m1, 0.5), TOL), Location::Boundary);
+            proptest::prop_assert_eq!(point_in_polygon(&p, c, TOL), Location::Inside);
+        }
+    }
 }

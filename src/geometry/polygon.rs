@@ -18,6 +18,8 @@
 //! panics on non-finite input; results for such input are unspecified but
 //! defined (NaN comparisons are simply false).
 
+// `!(x > tol)` is deliberate throughout: a NaN fails the test.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 use super::{cross, dist, dot, lerp, norm, sub, Aabb, Vec2};
 
 /// Signed area by the shoelace formula: positive when counter-clockwise.
@@ -169,7 +171,11 @@ pub fn degeneracy(poly: &[Vec2], tol: f64) -> Option<Degeneracy> {
     }
     let (la, lb) = (poly[ia], poly[ib]);
     let len = dist(la, lb);
-    if len > 0.0 && poly.iter().all(|&p| (cross(sub(lb, la), sub(p, la)) / len).abs() <= tol) {
+    if len > 0.0
+        && poly
+            .iter()
+            .all(|&p| (cross(sub(lb, la), sub(p, la)) / len).abs() <= tol)
+    {
         return Some(Degeneracy::Collinear);
     }
     for i in 0..n {
@@ -209,7 +215,8 @@ pub fn segments_cross_properly(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> bool {
     let o2 = cross(sub(b, a), sub(d, a));
     let o3 = cross(sub(d, c), sub(a, c));
     let o4 = cross(sub(d, c), sub(b, c));
-    ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0)) && ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0))
+    ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0))
+        && ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0))
 }
 
 /// The first pair of edges `(i, j)`, `i < j`, that intersect where they
@@ -236,12 +243,14 @@ pub fn self_intersection(poly: &[Vec2], tol: f64) -> Option<(usize, usize)> {
             let (c, d) = edge(poly, j);
             if j == i + 1 {
                 // Shared vertex b == c: they overlap if a far end lies on the other edge.
-                if point_segment_distance(a, c, d) <= tol || point_segment_distance(d, a, b) <= tol {
+                if point_segment_distance(a, c, d) <= tol || point_segment_distance(d, a, b) <= tol
+                {
                     return Some((i, j));
                 }
             } else if i == 0 && j == n - 1 {
                 // Shared vertex a == d.
-                if point_segment_distance(b, c, d) <= tol || point_segment_distance(c, a, b) <= tol {
+                if point_segment_distance(b, c, d) <= tol || point_segment_distance(c, a, b) <= tol
+                {
                     return Some((i, j));
                 }
             } else if segment_segment_distance(a, b, c, d) <= tol {
@@ -303,7 +312,10 @@ pub fn polygons_overlap(p: &[Vec2], q: &[Vec2], tol: f64) -> bool {
     if p.len() < 3 || q.len() < 3 {
         return false;
     }
-    if !Aabb::of_points(p).inflate(-tol).overlaps(&Aabb::of_points(q)) {
+    if !Aabb::of_points(p)
+        .inflate(-tol)
+        .overlaps(&Aabb::of_points(q))
+    {
         return false;
     }
     let (p_in_q, p_all_on) = classify_boundary(p, q, tol);
@@ -388,7 +400,14 @@ mod tests {
         assert_eq!(signed_area(&sq), 4.0);
         assert!(!orient_ccw(&mut sq));
         // L-shape: area 3.
-        let l = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        let l = [
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
         assert_eq!(signed_area(&l), 3.0);
         // Far from the origin: still exact for this representable square.
         assert_eq!(signed_area(&square(1e6, 1e6, 0.5)), 0.25);
@@ -415,11 +434,24 @@ mod tests {
         assert_eq!(point_in_polygon(&sq, [0.5, 0.5], TOL), Location::Inside);
         assert_eq!(point_in_polygon(&sq, [1.5, 0.5], TOL), Location::Outside);
         assert_eq!(point_in_polygon(&sq, [1.0, 0.5], TOL), Location::Boundary);
-        assert_eq!(point_in_polygon(&sq, [1.0 + 1e-10, 0.5], TOL), Location::Boundary);
-        assert_eq!(point_in_polygon(&sq, [1.0 + 1e-6, 0.5], TOL), Location::Outside);
+        assert_eq!(
+            point_in_polygon(&sq, [1.0 + 1e-10, 0.5], TOL),
+            Location::Boundary
+        );
+        assert_eq!(
+            point_in_polygon(&sq, [1.0 + 1e-6, 0.5], TOL),
+            Location::Outside
+        );
         assert_eq!(point_in_polygon(&sq, [0.0, 0.0], TOL), Location::Boundary);
         // Ray through a vertex of a non-convex polygon.
-        let l = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        let l = [
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
         assert_eq!(point_in_polygon(&l, [0.5, 1.0], TOL), Location::Inside);
         assert_eq!(point_in_polygon(&l, [1.5, 1.5], TOL), Location::Outside);
         assert_eq!(point_in_polygon(&l, [-1.0, 1.0], TOL), Location::Outside);
@@ -433,7 +465,10 @@ mod tests {
     #[test]
     fn degenerate_polygons() {
         assert_eq!(degeneracy(&square(0.0, 0.0, 1.0), TOL), None);
-        assert_eq!(degeneracy(&[[0.0, 0.0], [1.0, 0.0]], TOL), Some(Degeneracy::TooFewVertices(2)));
+        assert_eq!(
+            degeneracy(&[[0.0, 0.0], [1.0, 0.0]], TOL),
+            Some(Degeneracy::TooFewVertices(2))
+        );
         assert_eq!(
             degeneracy(&[[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 1.0]], TOL),
             Some(Degeneracy::RepeatedVertex(1))
@@ -443,13 +478,23 @@ mod tests {
             degeneracy(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.0, 0.0]], TOL),
             Some(Degeneracy::RepeatedVertex(3))
         );
-        assert_eq!(degeneracy(&[[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]], TOL), Some(Degeneracy::Collinear));
+        assert_eq!(
+            degeneracy(&[[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]], TOL),
+            Some(Degeneracy::Collinear)
+        );
         assert_eq!(
             degeneracy(&[[0.0, 0.0], [1.0, 0.0], [3.0, 0.0], [2.0, 0.0]], TOL),
             Some(Degeneracy::Collinear)
         );
         // A zero-width spike.
-        let spike = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [1.0, 3.0], [1.0, 2.0], [0.0, 1.0]];
+        let spike = [
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [1.0, 3.0],
+            [1.0, 2.0],
+            [0.0, 1.0],
+        ];
         assert_eq!(degeneracy(&spike, TOL), Some(Degeneracy::FoldBack(3)));
         // A vertex in the middle of a straight edge is fine.
         let mid = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]];
@@ -477,7 +522,14 @@ mod tests {
         let spike = [[0.0, 0.0], [2.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
         assert!(self_intersection(&spike, TOL).is_some());
         // Non-convex but simple.
-        let l = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        let l = [
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
         assert_eq!(self_intersection(&l, TOL), None);
     }
 
@@ -487,18 +539,39 @@ mod tests {
         assert!(segment_on_boundary(&sq, [0.0, 1.0], [1.0, 1.0], TOL));
         assert!(segment_on_boundary(&sq, [1.0, 1.0], [0.0, 1.0], TOL));
         assert!(segment_on_boundary(&sq, [0.2, 0.0], [0.7, 0.0], TOL));
-        assert!(segment_on_boundary(&sq, [1.0, 0.1], [1.0, 0.9 + 1e-11], TOL));
+        assert!(segment_on_boundary(
+            &sq,
+            [1.0, 0.1],
+            [1.0, 0.9 + 1e-11],
+            TOL
+        ));
         assert!(!segment_on_boundary(&sq, [0.0, 0.5], [1.0, 0.5], TOL));
         assert!(!segment_on_boundary(&sq, [0.5, 1.0], [1.5, 1.0], TOL));
         // Around a corner: not a straight piece of boundary.
         assert!(!segment_on_boundary(&sq, [0.0, 0.0], [1.0, 1.0], TOL));
         assert!(!segment_on_boundary(&sq, [0.5, 0.5], [0.5, 0.5], TOL));
         // Several consecutive collinear edges.
-        let mid = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0], [3.0, 1.0], [0.0, 1.0]];
+        let mid = [
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [2.0, 0.0],
+            [3.0, 0.0],
+            [3.0, 1.0],
+            [0.0, 1.0],
+        ];
         assert!(segment_on_boundary(&mid, [0.5, 0.0], [2.5, 0.0], TOL));
         assert!(segment_on_boundary(&mid, [0.0, 0.0], [3.0, 0.0], TOL));
         // A U shape: the two prong tops are collinear but the gap is not boundary.
-        let u = [[0.0, 0.0], [3.0, 0.0], [3.0, 2.0], [2.0, 2.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        let u = [
+            [0.0, 0.0],
+            [3.0, 0.0],
+            [3.0, 2.0],
+            [2.0, 2.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
         assert!(segment_on_boundary(&u, [0.0, 2.0], [1.0, 2.0], TOL));
         assert!(!segment_on_boundary(&u, [0.0, 2.0], [3.0, 2.0], TOL));
     }
@@ -538,10 +611,68 @@ mod tests {
         r.reverse();
         assert!(polygons_overlap(&a, &r, TOL));
         // A block sitting in a notch of an L-shape: touching on two edges.
-        let l = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        let l = [
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
         assert!(!polygons_overlap(&l, &square(1.0, 1.0, 1.0), TOL));
         assert!(polygons_overlap(&l, &square(0.9, 0.9, 1.0), TOL));
         // Interpenetration shallower than tol is not overlap.
         assert!(!polygons_overlap(&a, &square(1.0 - 1e-12, 0.0, 1.0), TOL));
+    }
+
+    fn rect(x0: i32, y0: i32, w: i32, h: i32) -> Vec<Vec2> {
+        let (x0, y0, x1, y1) = (x0 as f64, y0 as f64, (x0 + w) as f64, (y0 + h) as f64);
+        vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
+    }
+
+    proptest::proptest! {
+        /// Axis-aligned rectangles on an integer grid (so touching is frequent):
+        /// overlap iff both interval intersections have positive length, whatever
+        /// the orientation and starting vertex of either polygon.
+        #[test]
+        fn rectangle_overlap_matches_intervals(
+            a in (0..6i32, 0..6i32, 1..5i32, 1..5i32),
+            b in (0..6i32, 0..6i32, 1..5i32, 1..5i32),
+            rot in 0..4usize,
+            rev in proptest::bool::ANY,
+        ) {
+            let p = rect(a.0, a.1, a.2, a.3);
+            let mut q = rect(b.0, b.1, b.2, b.3);
+            q.rotate_left(rot);
+            if rev {
+                q.reverse();
+            }
+            let ox = (a.0 + a.2).min(b.0 + b.2) - a.0.max(b.0);
+            let oy = (a.1 + a.3).min(b.1 + b.3) - a.1.max(b.1);
+            let expected = ox > 0 && oy > 0;
+            proptest::prop_assert_eq!(polygons_overlap(&p, &q, TOL), expected);
+            proptest::prop_assert_eq!(polygons_overlap(&q, &p, TOL), expected);
+        }
+
+        /// A sub-segment of any edge of a rectangle is on its boundary; the same
+        /// segment shifted inwards by more than the tolerance is not.
+        #[test]
+        fn edge_pieces_are_on_the_boundary(
+            a in (0..6i32, 0..6i32, 1..5i32, 1..5i32),
+            e in 0..4usize,
+            s in 0.0..0.5f64,
+            t in 0.5..1.0f64,
+        ) {
+            let p = rect(a.0, a.1, a.2, a.3);
+            let (u, v) = edge(&p, e);
+            let (m0, m1) = (lerp(u, v, s), lerp(u, v, t));
+            proptest::prop_assert!(segment_on_boundary(&p, m0, m1, TOL));
+            proptest::prop_assert!(segment_on_boundary(&p, m1, m0, TOL));
+            let c = lerp(p[0], p[2], 0.5);
+            let inward = |x: Vec2| lerp(x, c, 1e-3);
+            proptest::prop_assert!(!segment_on_boundary(&p, inward(m0), inward(m1), TOL));
+            proptest::prop_assert_eq!(point_in_polygon(&p, lerp(m0, m1, 0.5), TOL), Location::Boundary);
+            proptest::prop_assert_eq!(point_in_polygon(&p, c, TOL), Location::Inside);
+        }
     }
 }

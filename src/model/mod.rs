@@ -24,8 +24,12 @@ use std::path::Path;
 
 /// Read and validate a model file.
 pub fn load_model(path: &Path) -> Result<Model, ModelError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| reader::error(format!("{}: cannot read the model file: {e}", path.display())))?;
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        reader::error(format!(
+            "{}: cannot read the model file: {e}",
+            path.display()
+        ))
+    })?;
     let dir = path.parent().unwrap_or(Path::new("."));
     parse_model_named(&text, dir, &path.display().to_string())
 }
@@ -38,6 +42,10 @@ pub fn parse_model(text: &str, base_dir: &Path) -> Result<Model, ModelError> {
 
 /// As [`parse_model`], naming the source (a file name) in TOML syntax errors.
 pub fn parse_model_named(text: &str, base_dir: &Path, source: &str) -> Result<Model, ModelError> {
-    let root: toml::Table = toml::from_str(text).map_err(|e| reader::syntax_error(source, text, &e))?;
+    let root: toml::Table =
+        toml::from_str(text).map_err(|e| reader::syntax_error(source, text, &e))?;
     validate::build(&root, base_dir)
 }
+
+#[cfg(test)]
+mod tests;

@@ -58,7 +58,9 @@ pub(crate) fn number(v: &Value) -> Result<f64, String> {
     match v {
         Value::Integer(i) => Ok(*i as f64),
         Value::Float(f) if f.is_nan() => Err("NaN is not allowed".into()),
-        Value::Float(f) if f.is_infinite() => Err(format!("infinite values are not allowed, got {f}")),
+        Value::Float(f) if f.is_infinite() => {
+            Err(format!("infinite values are not allowed, got {f}"))
+        }
         Value::Float(f) => Ok(*f),
         other => Err(format!("expected a number, got {}", describe(other))),
     }
@@ -108,7 +110,10 @@ pub(crate) fn pair(v: &Value) -> Result<Vec2, String> {
 pub(crate) fn point(v: &Value) -> Result<Vec2, String> {
     let p = pair(v)?;
     if p.iter().any(|c| c.abs() > MAX_COORD) {
-        return Err(format!("coordinate out of range (|x|, |y| ≤ {MAX_COORD:e} m) in {}", fmt_point(p)));
+        return Err(format!(
+            "coordinate out of range (|x|, |y| ≤ {MAX_COORD:e} m) in {}",
+            fmt_point(p)
+        ));
     }
     Ok(p)
 }
@@ -124,10 +129,14 @@ pub(crate) fn points(v: &Value) -> Result<Vec<Vec2>, String> {
 
 /// A segment `[[x, y], [x, y]]`.
 pub(crate) fn segment(v: &Value) -> Result<(Vec2, Vec2), String> {
-    let a = array(v).map_err(|_| format!("expected a segment [[x, y], [x, y]], got {}", describe(v)))?;
+    let a = array(v)
+        .map_err(|_| format!("expected a segment [[x, y], [x, y]], got {}", describe(v)))?;
     match a {
         [p, q] => Ok((point(p)?, point(q)?)),
-        _ => Err(format!("expected a segment [[x, y], [x, y]], got {} items", a.len())),
+        _ => Err(format!(
+            "expected a segment [[x, y], [x, y]], got {} items",
+            a.len()
+        )),
     }
 }
 
@@ -139,7 +148,10 @@ pub(crate) struct Fields<'a> {
 
 impl<'a> Fields<'a> {
     pub fn new(place: impl Into<String>, table: &'a Table) -> Self {
-        Fields { place: place.into(), table }
+        Fields {
+            place: place.into(),
+            table,
+        }
     }
 
     pub fn set_place(&mut self, place: impl Into<String>) {
@@ -182,7 +194,11 @@ impl<'a> Fields<'a> {
     }
 
     /// An optional key converted by `f`.
-    pub fn opt<T>(&self, key: &str, f: impl FnOnce(&'a Value) -> Result<T, String>) -> R<Option<T>> {
+    pub fn opt<T>(
+        &self,
+        key: &str,
+        f: impl FnOnce(&'a Value) -> Result<T, String>,
+    ) -> R<Option<T>> {
         match self.table.get(key) {
             Some(v) => f(v).map(Some).map_err(|e| self.err(key, e)),
             None => Ok(None),
@@ -204,8 +220,13 @@ pub(crate) fn table<'a>(root: &'a Table, key: &str) -> R<Option<&'a Table>> {
     match root.get(key) {
         None => Ok(None),
         Some(Value::Table(t)) => Ok(Some(t)),
-        Some(Value::Array(_)) => Err(error(format!("[{key}]: must be a single table (write [{key}], not [[{key}]])"))),
-        Some(other) => Err(error(format!("[{key}]: must be a table, got {}", describe(other)))),
+        Some(Value::Array(_)) => Err(error(format!(
+            "[{key}]: must be a single table (write [{key}], not [[{key}]])"
+        ))),
+        Some(other) => Err(error(format!(
+            "[{key}]: must be a table, got {}",
+            describe(other)
+        ))),
     }
 }
 
@@ -218,23 +239,40 @@ pub(crate) fn array_of_tables<'a>(root: &'a Table, key: &str) -> R<Vec<&'a Table
             .enumerate()
             .map(|(i, v)| match v {
                 Value::Table(t) => Ok(t),
-                other => Err(error(format!("[[{key}]] #{}: must be a table, got {}", i + 1, describe(other)))),
+                other => Err(error(format!(
+                    "[[{key}]] #{}: must be a table, got {}",
+                    i + 1,
+                    describe(other)
+                ))),
             })
             .collect(),
-        Some(Value::Table(_)) => Err(error(format!("[[{key}]]: must be an array of tables (write [[{key}]], not [{key}])"))),
-        Some(other) => Err(error(format!("[[{key}]]: must be an array of tables, got {}", describe(other)))),
+        Some(Value::Table(_)) => Err(error(format!(
+            "[[{key}]]: must be an array of tables (write [[{key}]], not [{key}])"
+        ))),
+        Some(other) => Err(error(format!(
+            "[[{key}]]: must be an array of tables, got {}",
+            describe(other)
+        ))),
     }
 }
 
 /// Turn a TOML syntax error into one line: `SOURCE: TOML syntax error at line L, column C: MESSAGE`.
 pub(crate) fn syntax_error(source: &str, text: &str, e: &toml::de::Error) -> ModelError {
-    let msg = e.message();
+    let msg = e
+        .message()
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ");
     match e.span().and_then(|s| text.get(..s.start)) {
         Some(before) => {
             let line = before.matches('\n').count() + 1;
             let line_start = before.rfind('\n').map_or(0, |i| i + 1);
             let column = before.get(line_start..).map_or(0, |l| l.chars().count()) + 1;
-            error(format!("{source}: TOML syntax error at line {line}, column {column}: {msg}"))
+            error(format!(
+                "{source}: TOML syntax error at line {line}, column {column}: {msg}"
+            ))
         }
         None => error(format!("{source}: TOML syntax error: {msg}")),
     }

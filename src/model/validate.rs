@@ -8,14 +8,16 @@
 //! vertex k+1, the last edge closes the polygon); `[[…]] #k` counts tables of
 //! one kind from 1.
 
+// `!(x > tol)` is deliberate throughout: a NaN fails the test.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 use super::reader::{
-    array, array_of_tables, boolean, error, fmt_num, fmt_point, integer, number, pair, point, points, segment,
-    string, table, Fields, R,
+    array, array_of_tables, boolean, error, fmt_num, fmt_point, integer, number, pair, point,
+    points, segment, string, table, Fields, R,
 };
 use super::*;
 use crate::geometry::polygon::{
-    degeneracy, orient_ccw, point_in_polygon, polygons_overlap, segment_on_boundary, self_intersection,
-    Degeneracy, Location,
+    degeneracy, orient_ccw, point_in_polygon, polygons_overlap, segment_on_boundary,
+    self_intersection, Degeneracy, Location,
 };
 use crate::geometry::{Aabb, Vec2};
 use std::collections::{HashMap, HashSet};
@@ -24,8 +26,17 @@ use toml::{Table, Value};
 /// Relative geometric tolerance (× model size).
 pub const REL_TOL: f64 = 1e-9;
 
-const TOP_KEYS: &[&str] =
-    &["analysis", "cover", "material", "block", "interface", "load", "constraint", "base_motion", "monitor"];
+const TOP_KEYS: &[&str] = &[
+    "analysis",
+    "cover",
+    "material",
+    "block",
+    "interface",
+    "load",
+    "constraint",
+    "base_motion",
+    "monitor",
+];
 
 /// Validate the whole tree. `base_dir` resolves `[base_motion] file`.
 pub(crate) fn build(root: &Table, base_dir: &Path) -> R<Model> {
@@ -42,13 +53,27 @@ pub(crate) fn build(root: &Table, base_dir: &Path) -> R<Model> {
     let mut blocks = blocks(root, &materials)?;
     let tol = model_tolerance(&blocks);
     check_polygons(&mut blocks, tol)?;
-    let names: HashMap<&str, usize> = blocks.iter().enumerate().map(|(i, b)| (b.name.as_str(), i)).collect();
+    let names: HashMap<&str, usize> = blocks
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (b.name.as_str(), i))
+        .collect();
     let interfaces = interfaces(root, &blocks, &names)?;
     let loads = loads(root, &blocks, &names, tol)?;
     let constraints = constraints(root, &blocks, &names, tol)?;
     let base_motion = base_motion(root, base_dir)?;
     let monitors = monitors(root, &blocks, &names, tol)?;
-    Ok(Model { analysis, cover_size, materials, blocks, interfaces, loads, constraints, base_motion, monitors })
+    Ok(Model {
+        analysis,
+        cover_size,
+        materials,
+        blocks,
+        interfaces,
+        loads,
+        constraints,
+        base_motion,
+        monitors,
+    })
 }
 
 /// `1e-9 ×` the bounding-box diagonal of all block vertices.
@@ -88,7 +113,10 @@ fn choice<'a>(f: &Fields, key: &str, allowed: &[&'a str], default: &'a str) -> R
         None => Ok(default),
         Some(s) => allowed.iter().copied().find(|a| *a == s).ok_or_else(|| {
             let list: Vec<String> = allowed.iter().map(|a| format!("\"{a}\"")).collect();
-            f.err(key, format!("expected one of {}, got {s:?}", list.join(", ")))
+            f.err(
+                key,
+                format!("expected one of {}, got {s:?}", list.join(", ")),
+            )
         }),
     }
 }
@@ -119,7 +147,12 @@ fn analysis(root: &Table) -> R<Analysis> {
         n => usize::try_from(n).map_err(|_| f.err("steps", format!("out of range, got {n}")))?,
     };
     let gravity = f.opt("gravity", pair)?.unwrap_or([0.0, 0.0]);
-    let friction = match choice(&f, "friction", &["return-mapping", "conventional"], "return-mapping")? {
+    let friction = match choice(
+        &f,
+        "friction",
+        &["return-mapping", "conventional"],
+        "return-mapping",
+    )? {
         "conventional" => FrictionAlgorithm::Conventional,
         _ => FrictionAlgorithm::ReturnMapping,
     };
@@ -128,7 +161,10 @@ fn analysis(root: &Table) -> R<Analysis> {
     let max_step_cuts = count(&f, "max_step_cuts", 6, 0)?;
     let tolerance = f.opt("tolerance", number)?.unwrap_or(1e-9);
     if !(tolerance > 0.0 && tolerance < 1.0) {
-        return Err(f.err("tolerance", format!("must be in (0, 1), got {}", fmt_num(tolerance))));
+        return Err(f.err(
+            "tolerance",
+            format!("must be in (0, 1), got {}", fmt_num(tolerance)),
+        ));
     }
     let constraint_penalty = f.opt("constraint_penalty", number)?.unwrap_or(1e6);
     positive(&f, "constraint_penalty", constraint_penalty)?;
@@ -147,7 +183,8 @@ fn analysis(root: &Table) -> R<Analysis> {
 }
 
 fn cover(root: &Table) -> R<f64> {
-    let t = table(root, "cover")?.ok_or_else(|| error("[cover]: missing table (key `size` is required)"))?;
+    let t = table(root, "cover")?
+        .ok_or_else(|| error("[cover]: missing table (key `size` is required)"))?;
     let f = Fields::new("[cover]", t);
     f.deny_unknown(&["size"])?;
     positive(&f, "size", f.req("size", number)?)
@@ -161,19 +198,31 @@ fn materials(root: &Table) -> R<Vec<Material>> {
         f.set_place(format!("[[material]] {name:?}"));
         f.deny_unknown(&["name", "density", "young", "poisson", "plane"])?;
         if let Some(k) = out.iter().position(|m| m.name == name) {
-            return Err(f.err("name", format!("duplicate material name (also [[material]] #{})", k + 1)));
+            return Err(f.err(
+                "name",
+                format!("duplicate material name (also [[material]] #{})", k + 1),
+            ));
         }
         let density = positive(&f, "density", f.req("density", number)?)?;
         let young = positive(&f, "young", f.req("young", number)?)?;
         let poisson = f.req("poisson", number)?;
         if !(poisson > -1.0 && poisson < 0.5) {
-            return Err(f.err("poisson", format!("must be in (-1, 0.5), got {}", fmt_num(poisson))));
+            return Err(f.err(
+                "poisson",
+                format!("must be in (-1, 0.5), got {}", fmt_num(poisson)),
+            ));
         }
         let plane = match choice(&f, "plane", &["strain", "stress"], "strain")? {
             "stress" => Plane::Stress,
             _ => Plane::Strain,
         };
-        out.push(Material { name, density, young, poisson, plane });
+        out.push(Material {
+            name,
+            density,
+            young,
+            poisson,
+            plane,
+        });
     }
     Ok(out)
 }
@@ -191,7 +240,10 @@ fn blocks(root: &Table, materials: &[Material]) -> R<Vec<Block>> {
         f.set_place(format!("[[block]] {name:?}"));
         f.deny_unknown(&["name", "material", "vertices", "fixed"])?;
         if let Some(k) = out.iter().position(|b| b.name == name) {
-            return Err(f.err("name", format!("duplicate block name (also [[block]] #{})", k + 1)));
+            return Err(f.err(
+                "name",
+                format!("duplicate block name (also [[block]] #{})", k + 1),
+            ));
         }
         let mat_name = f.req("material", string)?;
         let material = materials
@@ -200,10 +252,21 @@ fn blocks(root: &Table, materials: &[Material]) -> R<Vec<Block>> {
             .ok_or_else(|| f.err("material", format!("unknown material {mat_name:?}")))?;
         let vertices = f.req("vertices", points)?;
         if vertices.len() < 3 {
-            return Err(f.err("vertices", format!("a polygon needs at least 3 vertices, got {}", vertices.len())));
+            return Err(f.err(
+                "vertices",
+                format!(
+                    "a polygon needs at least 3 vertices, got {}",
+                    vertices.len()
+                ),
+            ));
         }
         let fixed = f.opt("fixed", boolean)?.unwrap_or(false);
-        out.push(Block { name, material, vertices, fixed });
+        out.push(Block {
+            name,
+            material,
+            vertices,
+            fixed,
+        });
     }
     Ok(out)
 }
@@ -214,28 +277,54 @@ fn check_polygons(blocks: &mut [Block], tol: f64) -> R<()> {
     for b in blocks.iter_mut() {
         let err = |msg: String| error(format!("[[block]] {:?}: key `vertices`: {msg}", b.name));
         let n = b.vertices.len();
-        if let Some(d) = degeneracy(&b.vertices, tol) {
-            return Err(err(match d {
-                Degeneracy::TooFewVertices(k) => format!("a polygon needs at least 3 vertices, got {k}"),
-                Degeneracy::RepeatedVertex(i) => {
-                    format!("degenerate polygon: vertices {} and {} coincide", i + 1, (i + 1) % n + 1)
-                }
-                Degeneracy::Collinear => "degenerate polygon: all vertices are collinear".into(),
-                Degeneracy::FoldBack(i) => {
-                    format!("degenerate polygon: the boundary folds back on itself at vertex {}", i + 1)
-                }
-                Degeneracy::ZeroArea => "degenerate polygon: zero area".into(),
-            }));
+        // A zero area is reported after self-intersection (a symmetric bow-tie has zero area).
+        let degenerate = degeneracy(&b.vertices, tol);
+        if !matches!(degenerate, None | Some(Degeneracy::ZeroArea))
+            || self_intersection(&b.vertices, tol).is_none()
+        {
+            if let Some(d) = degenerate {
+                return Err(err(match d {
+                    Degeneracy::TooFewVertices(k) => {
+                        format!("a polygon needs at least 3 vertices, got {k}")
+                    }
+                    Degeneracy::RepeatedVertex(i) => {
+                        format!(
+                            "degenerate polygon: vertices {} and {} coincide",
+                            i + 1,
+                            (i + 1) % n + 1
+                        )
+                    }
+                    Degeneracy::Collinear => {
+                        "degenerate polygon: all vertices are collinear".into()
+                    }
+                    Degeneracy::FoldBack(i) => {
+                        format!(
+                            "degenerate polygon: the boundary folds back on itself at vertex {}",
+                            i + 1
+                        )
+                    }
+                    Degeneracy::ZeroArea => "degenerate polygon: zero area".into(),
+                }));
+            }
         }
         if let Some((i, j)) = self_intersection(&b.vertices, tol) {
-            return Err(err(format!("polygon self-intersects (edges {} and {})", i + 1, j + 1)));
+            return Err(err(format!(
+                "polygon self-intersects (edges {} and {})",
+                i + 1,
+                j + 1
+            )));
         }
         orient_ccw(&mut b.vertices);
     }
-    let boxes: Vec<Aabb> = blocks.iter().map(|b| Aabb::of_points(&b.vertices)).collect();
+    let boxes: Vec<Aabb> = blocks
+        .iter()
+        .map(|b| Aabb::of_points(&b.vertices))
+        .collect();
     for j in 0..blocks.len() {
         for i in 0..j {
-            if boxes[i].overlaps(&boxes[j]) && polygons_overlap(&blocks[i].vertices, &blocks[j].vertices, tol) {
+            if boxes[i].overlaps(&boxes[j])
+                && polygons_overlap(&blocks[i].vertices, &blocks[j].vertices, tol)
+            {
                 return Err(error(format!(
                     "[[block]] {:?}: key `vertices`: overlaps block {:?} (blocks may touch but not overlap)",
                     blocks[j].name, blocks[i].name
@@ -248,15 +337,29 @@ fn check_polygons(blocks: &mut [Block], tol: f64) -> R<()> {
 
 /// Resolve a block name read from `key`.
 fn block_ref(f: &Fields, key: &str, name: &str, names: &HashMap<&str, usize>) -> R<usize> {
-    names.get(name).copied().ok_or_else(|| f.err(key, format!("unknown block {name:?}")))
+    names
+        .get(name)
+        .copied()
+        .ok_or_else(|| f.err(key, format!("unknown block {name:?}")))
 }
 
 /// A pair of two distinct existing block names `["a", "b"]`.
 fn block_pair(f: &Fields, key: &str, names: &HashMap<&str, usize>) -> R<(usize, usize)> {
     let v = f.req(key, array)?;
     let (a, b) = match v {
-        [a, b] => (string(a).map_err(|e| f.err(key, e))?, string(b).map_err(|e| f.err(key, e))?),
-        _ => return Err(f.err(key, format!("expected two block names [\"a\", \"b\"], got {} items", v.len()))),
+        [a, b] => (
+            string(a).map_err(|e| f.err(key, e))?,
+            string(b).map_err(|e| f.err(key, e))?,
+        ),
+        _ => {
+            return Err(f.err(
+                key,
+                format!(
+                    "expected two block names [\"a\", \"b\"], got {} items",
+                    v.len()
+                ),
+            ))
+        }
     };
     let (ia, ib) = (block_ref(f, key, a, names)?, block_ref(f, key, b, names)?);
     if ia == ib {
@@ -271,13 +374,30 @@ fn interfaces(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>) -> R
     let mut pairs: HashMap<(usize, usize), usize> = HashMap::new();
     for (k, t) in array_of_tables(root, "interface")?.into_iter().enumerate() {
         let mut f = Fields::new(format!("[[interface]] #{}", k + 1), t);
-        f.deny_unknown(&["blocks", "friction_angle", "cohesion", "normal_penalty", "shear_penalty"])?;
+        f.deny_unknown(&[
+            "blocks",
+            "friction_angle",
+            "cohesion",
+            "normal_penalty",
+            "shear_penalty",
+        ])?;
         let pair = if f.has("blocks") {
             let (a, b) = block_pair(&f, "blocks", names)?;
-            f.set_place(format!("[[interface]] #{} (blocks {:?}, {:?})", k + 1, blocks[a].name, blocks[b].name));
+            f.set_place(format!(
+                "[[interface]] #{} (blocks {:?}, {:?})",
+                k + 1,
+                blocks[a].name,
+                blocks[b].name
+            ));
             let key = (a.min(b), a.max(b));
             if let Some(first) = pairs.insert(key, k) {
-                return Err(f.err("blocks", format!("this pair already has an interface ([[interface]] #{})", first + 1)));
+                return Err(f.err(
+                    "blocks",
+                    format!(
+                        "this pair already has an interface ([[interface]] #{})",
+                        first + 1
+                    ),
+                ));
             }
             Some((a, b))
         } else {
@@ -293,15 +413,30 @@ fn interfaces(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>) -> R
         };
         let friction_angle = f.req("friction_angle", number)?;
         if !(0.0..90.0).contains(&friction_angle) {
-            return Err(f.err("friction_angle", format!("must be in [0, 90) degrees, got {}", fmt_num(friction_angle))));
+            return Err(f.err(
+                "friction_angle",
+                format!(
+                    "must be in [0, 90) degrees, got {}",
+                    fmt_num(friction_angle)
+                ),
+            ));
         }
         let cohesion = f.opt("cohesion", number)?.unwrap_or(0.0);
         if cohesion < 0.0 {
-            return Err(f.err("cohesion", format!("must be zero or positive, got {}", fmt_num(cohesion))));
+            return Err(f.err(
+                "cohesion",
+                format!("must be zero or positive, got {}", fmt_num(cohesion)),
+            ));
         }
         let normal_penalty = positive(&f, "normal_penalty", f.req("normal_penalty", number)?)?;
         let shear_penalty = positive(&f, "shear_penalty", f.req("shear_penalty", number)?)?;
-        out.push(Interface { blocks: pair, friction_angle, cohesion, normal_penalty, shear_penalty });
+        out.push(Interface {
+            blocks: pair,
+            friction_angle,
+            cohesion,
+            normal_penalty,
+            shear_penalty,
+        });
     }
     if default_at.is_none() && blocks.len() >= 2 {
         for j in 0..blocks.len() {
@@ -322,12 +457,24 @@ fn interfaces(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>) -> R
 /// Check that a segment lies on the block boundary.
 fn on_boundary(f: &Fields, key: &str, block: &Block, (a, b): (Vec2, Vec2), tol: f64) -> R<()> {
     if !(crate::geometry::dist(a, b) > tol) {
-        return Err(f.err(key, format!("segment [{},{}] has zero length", fmt_point(a), fmt_point(b))));
+        return Err(f.err(
+            key,
+            format!(
+                "segment [{},{}] has zero length",
+                fmt_point(a),
+                fmt_point(b)
+            ),
+        ));
     }
     if !segment_on_boundary(&block.vertices, a, b, tol) {
         return Err(f.err(
             key,
-            format!("segment [{},{}] is not on the boundary of block {:?}", fmt_point(a), fmt_point(b), block.name),
+            format!(
+                "segment [{},{}] is not on the boundary of block {:?}",
+                fmt_point(a),
+                fmt_point(b),
+                block.name
+            ),
         ));
     }
     Ok(())
@@ -336,7 +483,10 @@ fn on_boundary(f: &Fields, key: &str, block: &Block, (a, b): (Vec2, Vec2), tol: 
 /// Check that a point lies inside or on the block.
 fn in_block(f: &Fields, key: &str, block: &Block, p: Vec2, tol: f64) -> R<()> {
     if point_in_polygon(&block.vertices, p, tol) == Location::Outside {
-        return Err(f.err(key, format!("point {} is outside block {:?}", fmt_point(p), block.name)));
+        return Err(f.err(
+            key,
+            format!("point {} is outside block {:?}", fmt_point(p), block.name),
+        ));
     }
     Ok(())
 }
@@ -356,13 +506,24 @@ fn loads(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>, tol: f64)
         f.deny_unknown(&["block", "edge", "traction", "point", "force"])?;
         let block = &blocks[bi];
         let kind = match (f.has("edge"), f.has("point")) {
-            (true, true) => return Err(f.err("point", "give either `edge` (with `traction`) or `point` (with `force`), not both")),
+            (true, true) => {
+                return Err(f.err(
+                    "point",
+                    "give either `edge` (with `traction`) or `point` (with `force`), not both",
+                ))
+            }
             (false, false) => {
-                return Err(f.err("edge", "missing: give either `edge` with `traction`, or `point` with `force`"))
+                return Err(f.err(
+                    "edge",
+                    "missing: give either `edge` with `traction`, or `point` with `force`",
+                ))
             }
             (true, false) => {
                 if f.has("force") {
-                    return Err(f.err("force", "belongs to a point load; an edge load takes `traction` (Pa)"));
+                    return Err(f.err(
+                        "force",
+                        "belongs to a point load; an edge load takes `traction` (Pa)",
+                    ));
                 }
                 let (a, b) = f.req("edge", segment)?;
                 on_boundary(&f, "edge", block, (a, b), tol)?;
@@ -371,7 +532,10 @@ fn loads(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>, tol: f64)
             }
             (false, true) => {
                 if f.has("traction") {
-                    return Err(f.err("traction", "belongs to an edge load; a point load takes `force` (N/m)"));
+                    return Err(f.err(
+                        "traction",
+                        "belongs to an edge load; a point load takes `force` (N/m)",
+                    ));
                 }
                 let p = f.req("point", point)?;
                 in_block(&f, "point", block, p, tol)?;
@@ -392,7 +556,8 @@ fn time_function(v: &Value) -> Result<TimeFunction, String> {
         }
         let mut out: Vec<(f64, f64)> = Vec::with_capacity(rows.len());
         for (i, r) in rows.iter().enumerate() {
-            let [t, u] = pair(r).map_err(|e| format!("row {}: {}", i + 1, e.replace("[x, y]", "[t, u]")))?;
+            let [t, u] =
+                pair(r).map_err(|e| format!("row {}: {}", i + 1, e.replace("[x, y]", "[t, u]")))?;
             if let Some(&(t0, _)) = out.last() {
                 if !(t > t0) {
                     return Err(format!(
@@ -407,13 +572,21 @@ fn time_function(v: &Value) -> Result<TimeFunction, String> {
         }
         Ok(TimeFunction::Table(out))
     } else {
-        number(v)
-            .map(TimeFunction::Constant)
-            .map_err(|_| format!("expected a number or a table [[t, u], …], got {}", super::reader::describe(v)))
+        number(v).map(TimeFunction::Constant).map_err(|_| {
+            format!(
+                "expected a number or a table [[t, u], …], got {}",
+                super::reader::describe(v)
+            )
+        })
     }
 }
 
-fn constraints(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>, tol: f64) -> R<Vec<Constraint>> {
+fn constraints(
+    root: &Table,
+    blocks: &[Block],
+    names: &HashMap<&str, usize>,
+    tol: f64,
+) -> R<Vec<Constraint>> {
     let mut out = Vec::new();
     for (k, t) in array_of_tables(root, "constraint")?.into_iter().enumerate() {
         let mut f = Fields::new(format!("[[constraint]] #{}", k + 1), t);
@@ -439,7 +612,12 @@ fn constraints(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>, tol
         if ux.is_none() && uy.is_none() {
             return Err(f.err("ux", "missing: give `ux`, `uy` or both"));
         }
-        out.push(Constraint { block: bi, geometry, ux, uy });
+        out.push(Constraint {
+            block: bi,
+            geometry,
+            ux,
+            uy,
+        });
     }
     Ok(out)
 }
@@ -470,16 +648,29 @@ fn base_motion(root: &Table, base_dir: &Path) -> R<Option<BaseMotion>> {
             }
             let path = base_dir.join(file);
             if let Err(e) = std::fs::metadata(&path) {
-                return Err(f.err("file", format!("cannot read {file:?} ({}): {e}", path.display())));
+                return Err(f.err(
+                    "file",
+                    format!("cannot read {file:?} ({}): {e}", path.display()),
+                ));
             }
-            let samples = crate::motion::read_record(&path, format, component).map_err(|e| f.err("file", e))?;
+            let samples = crate::motion::read_record(&path, format, component)
+                .map_err(|e| f.err("file", e))?;
             ("file", samples)
         }
     };
     check_samples(&raw).map_err(|e| f.err(key, e))?;
-    let samples: Vec<[f64; 3]> = raw.iter().map(|s| [s[0], scale * s[1], scale * s[2]]).collect();
-    if samples.iter().any(|s| !(s[1].is_finite() && s[2].is_finite())) {
-        return Err(f.err("scale", format!("scaled accelerations overflow (scale = {})", fmt_num(scale))));
+    let samples: Vec<[f64; 3]> = raw
+        .iter()
+        .map(|s| [s[0], scale * s[1], scale * s[2]])
+        .collect();
+    if samples
+        .iter()
+        .any(|s| !(s[1].is_finite() && s[2].is_finite()))
+    {
+        return Err(f.err(
+            "scale",
+            format!("scaled accelerations overflow (scale = {})", fmt_num(scale)),
+        ));
     }
     Ok(Some(BaseMotion { samples }))
 }
@@ -491,12 +682,22 @@ fn motion_table(v: &Value, component: &str) -> Result<Vec<[f64; 3]>, String> {
     let mut out = Vec::with_capacity(rows.len());
     for (i, r) in rows.iter().enumerate() {
         let items = array(r).map_err(|e| format!("row {}: {e}", i + 1))?;
-        let nums: Vec<f64> = items.iter().map(number).collect::<Result<_, _>>().map_err(|e| format!("row {}: {e}", i + 1))?;
+        let nums: Vec<f64> = items
+            .iter()
+            .map(number)
+            .collect::<Result<_, _>>()
+            .map_err(|e| format!("row {}: {e}", i + 1))?;
         out.push(match nums.as_slice() {
             [t, ax, ay] => [*t, *ax, *ay],
             [t, a] if component == "y" => [*t, 0.0, *a],
             [t, a] => [*t, *a, 0.0],
-            _ => return Err(format!("row {}: expected [t, ax, ay] or [t, a], got {} numbers", i + 1, nums.len())),
+            _ => {
+                return Err(format!(
+                    "row {}: expected [t, ax, ay] or [t, a], got {} numbers",
+                    i + 1,
+                    nums.len()
+                ))
+            }
         });
         if *width.get_or_insert(nums.len()) != nums.len() {
             return Err(format!("row {}: all rows must have the same length", i + 1));
@@ -508,7 +709,10 @@ fn motion_table(v: &Value, component: &str) -> Result<Vec<[f64; 3]>, String> {
 /// At least two finite samples with strictly increasing times.
 fn check_samples(s: &[[f64; 3]]) -> Result<(), String> {
     if s.len() < 2 {
-        return Err(format!("the record needs at least 2 samples, got {}", s.len()));
+        return Err(format!(
+            "the record needs at least 2 samples, got {}",
+            s.len()
+        ));
     }
     for (i, r) in s.iter().enumerate() {
         if r.iter().any(|x| !x.is_finite()) {
@@ -526,7 +730,12 @@ fn check_samples(s: &[[f64; 3]]) -> Result<(), String> {
     Ok(())
 }
 
-fn monitors(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>, tol: f64) -> R<Vec<Monitor>> {
+fn monitors(
+    root: &Table,
+    blocks: &[Block],
+    names: &HashMap<&str, usize>,
+    tol: f64,
+) -> R<Vec<Monitor>> {
     let mut out: Vec<Monitor> = Vec::new();
     let mut seen: HashSet<String> = HashSet::new();
     for (k, t) in array_of_tables(root, "monitor")?.into_iter().enumerate() {
@@ -541,14 +750,23 @@ fn monitors(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>, tol: f
             return Err(f.err("name", "duplicate monitor name"));
         }
         let kind = match (f.has("point"), f.has("interface")) {
-            (true, true) => return Err(f.err("interface", "give either `point` or `interface`, not both")),
-            (false, false) => return Err(f.err("point", "missing: give either `point` or `interface`")),
+            (true, true) => {
+                return Err(f.err("interface", "give either `point` or `interface`, not both"))
+            }
+            (false, false) => {
+                return Err(f.err("point", "missing: give either `point` or `interface`"))
+            }
             (true, false) => {
                 let p = f.req("point", point)?;
                 let block = blocks
                     .iter()
                     .position(|b| point_in_polygon(&b.vertices, p, tol) != Location::Outside)
-                    .ok_or_else(|| f.err("point", format!("point {} is not inside any block", fmt_point(p))))?;
+                    .ok_or_else(|| {
+                        f.err(
+                            "point",
+                            format!("point {} is not inside any block", fmt_point(p)),
+                        )
+                    })?;
                 MonitorKind::Point { p, block }
             }
             (false, true) => {

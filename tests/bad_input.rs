@@ -1,0 +1,392 @@
+//! Every class of bad input makes `nmm check` fail cleanly: non-zero exit, exactly one
+//! non-empty line on stderr naming the place (table, key, block), and no panic.
+
+use std::path::Path;
+use std::process::Command;
+
+const EXAMPLE: &str = include_str!("data/example.toml");
+
+/// Run `nmm check FILE` and return (success, stdout, stderr).
+fn check(path: &Path) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_nmm"))
+        .arg("check")
+        .arg(path)
+        .output()
+        .expect("run nmm");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// Write `text` as model.toml in a fresh tempdir, check it, and assert a clean
+/// one-line failure containing every fragment of `expect`.
+fn assert_rejected(case: &str, text: &str, expect: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("model.toml");
+    std::fs::write(&path, text).unwrap();
+    assert_fails(case, &path, expect);
+}
+
+fn assert_fails(case: &str, path: &Path, expect: &[&str]) {
+    let (ok, _, stderr) = check(path);
+    assert!(!ok, "{case}: accepted");
+    assert!(!stderr.contains("panicked"), "{case}: panic: {stderr}");
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{case}: stderr is not one line: {stderr:?}");
+    let line = lines[0];
+    assert!(
+        line.starts_with("error: ") && line.len() > "error: ".len(),
+        "{case}: {line}"
+    );
+    for e in expect {
+        assert!(line.contains(e), "{case}: {line:?} does not contain {e:?}");
+    }
+}
+
+/// The example with the first `from` replaced by `to`.
+fn mutate(from: &str, to: &str) -> String {
+    assert!(EXAMPLE.contains(from), "{from:?} is not in the example");
+    EXAMPLE.replacen(from, to, 1)
+}
+
+const SLIDER: &str = "vertices = [[0.0, 1.0], [0.0, 1.5], [1.0, 1.5], [1.0, 1.0]]";
+
+#[test]
+fn the_example_is_accepted() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("model.toml");
+    std::fs::write(&path, EXAMPLE).unwrap();
+    let (ok, stdout, stderr) = check(&path);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("blocks: 3"), "{stdout}");
+}
+
+#[test]
+fn toml_syntax_error() {
+    assert_rejected(
+        "syntax",
+        &mutate("steps = 3000", "steps = = 3000"),
+        &["model.toml", "TOML syntax error at line 4"],
+    );
+    assert_rejected(
+        "unclosed",
+        &mutate("[cover]", "[cover"),
+        &["TOML syntax error at line"],
+    );
+    assert_rejected(
+        "duplicate key",
+        &mutate("steps = 3000", "steps = 3000\nsteps = 4"),
+        &["TOML syntax error", "steps"],
+    );
+}
+
+#[test]
+fn unknown_names() {
+    assert_rejected(
+        "material",
+        &mutate(
+            "name = \"slider\"\nmaterial = \"limestone\"",
+            "name = \"slider\"\nmaterial = \"granite\"",
+        ),
+        &["[[block]] \"slider\"", "key `material`", "\"granite\""],
+    );
+    assert_rejected(
+        "load block",
+        &mutate("block = \"slider\"", "block = \"slidr\""),
+        &["[[load]] #1", "key `block`", "\"slidr\""],
+    );
+    assert_rejected(
+        "constraint block",
+        &mutate("block = \"upper\"", "block = \"uper\""),
+        &["[[constraint]] #1", "key `block`", "\"uper\""],
+    );
+    assert_rejected(
+        "interface block",
+        &mutate(
+            "blocks = [\"base\", \"slider\"]",
+            "blocks = [\"bse\", \"slider\"]",
+        ),
+        &["[[interface]] #2", "key `blocks`", "\"bse\""],
+    );
+    assert_rejected(
+        "monitor block",
+        &mutate(
+            "interface = [\"slider\", \"base\"]",
+            "interface = [\"slider\", \"bas\"]",
+        ),
+        &["[[monitor]] \"joint\"", "key `interface`", "\"bas\""],
+    );
+}
+
+#[test]
+fn duplicate_names() {
+    assert_rejected(
+        "block",
+        &mutate("name = \"upper\"", "name = \"slider\""),
+        &["[[block]] \"slider\"", "key `name`", "duplicate"],
+    );
+    assert_rejected(
+        "material",
+        &format!("{EXAMPLE}\n[[material]]\nname = \"limestone\"\ndensity = 1.0\nyoung = 1.0\npoisson = 0.2\n"),
+        &["[[material]] \"limestone\"", "key `name`", "duplicate"],
+    );
+    assert_rejected(
+        "monitor",
+        &mutate("name = \"joint\"", "name = \"crest\""),
+        &["[[monitor]] \"crest\"", "key `name`", "duplicate"],
+    );
+    assert_rejected(
+        "empty",
+        &mutate("name = \"upper\"", "name = \"\""),
+        &["[[block]] #3", "key `name`", "empty"],
+    );
+}
+
+#[test]
+fn bad_polygons() {
+    assert_rejected(
+        "self-intersecting",
+        &mutate(
+            SLIDER,
+            "vertices = [[0.0, 1.0], [1.0, 1.5], [0.0, 1.5], [1.0, 1.0]]",
+        ),
+        &["[[block]] \"slider\": key `vertices`: polygon self-intersects (edges 1 and 3)"],
+    );
+    assert_rejected(
+        "collinear",
+        &mutate(SLIDER, "vertices = [[0.0, 1.0], [0.5, 1.25], [1.0, 1.5]]"),
+        &["[[block]] \"slider\": key `vertices`: degenerate polygon"],
+    );
+    assert_rejected(
+        "repeated vertex",
+        &mutate(
+            SLIDER,
+            "vertices = [[0.0, 1.0], [0.0, 1.5], [0.0, 1.5], [1.0, 1.5], [1.0, 1.0]]",
+        ),
+        &["[[block]] \"slider\": key `vertices`: degenerate polygon: vertices 2 and 3 coincide"],
+    );
+    assert_rejected(
+        "two vertices",
+        &mutate(SLIDER, "vertices = [[0.0, 1.0], [0.0, 1.5]]"),
+        &[
+            "[[block]] \"slider\": key `vertices`",
+            "at least 3 vertices",
+        ],
+    );
+    assert_rejected(
+        "overlap",
+        &mutate(
+            SLIDER,
+            "vertices = [[0.0, 1.0], [0.0, 1.5], [1.5, 1.5], [1.5, 1.0]]",
+        ),
+        &["[[block]] \"upper\": key `vertices`: overlaps block \"slider\""],
+    );
+}
+
+#[test]
+fn values_out_of_range() {
+    let cases: &[(&str, &str, &str, &[&str])] = &[
+        (
+            "density",
+            "density = 2243.0",
+            "density = 0.0",
+            &["[[material]] \"limestone\"", "key `density`", "positive"],
+        ),
+        (
+            "young",
+            "young = 7.0e9",
+            "young = -7.0e9",
+            &["[[material]] \"limestone\"", "key `young`", "positive"],
+        ),
+        (
+            "dt",
+            "dt = 0.001",
+            "dt = -0.001",
+            &["[analysis]: key `dt`: must be positive, got -0.001"],
+        ),
+        (
+            "steps",
+            "steps = 3000",
+            "steps = 0",
+            &["[analysis]", "key `steps`", "positive"],
+        ),
+        (
+            "cover size",
+            "size = 0.05",
+            "size = 0",
+            &["[cover]", "key `size`", "positive"],
+        ),
+        (
+            "poisson high",
+            "poisson = 0.33",
+            "poisson = 0.5",
+            &["[[material]] \"limestone\"", "key `poisson`"],
+        ),
+        (
+            "poisson low",
+            "poisson = 0.33",
+            "poisson = -1.5",
+            &["[[material]] \"limestone\"", "key `poisson`"],
+        ),
+        (
+            "friction angle",
+            "friction_angle = 40.5",
+            "friction_angle = 95",
+            &["[[interface]] #2", "key `friction_angle`"],
+        ),
+    ];
+    for (case, from, to, expect) in cases {
+        assert_rejected(case, &mutate(from, to), expect);
+    }
+}
+
+#[test]
+fn non_finite_numbers() {
+    assert_rejected(
+        "nan dt",
+        &mutate("dt = 0.001", "dt = nan"),
+        &["[analysis]", "key `dt`", "NaN"],
+    );
+    assert_rejected(
+        "nan vertex",
+        &mutate(
+            SLIDER,
+            "vertices = [[0.0, 1.0], [0.0, nan], [1.0, 1.5], [1.0, 1.0]]",
+        ),
+        &["[[block]] \"slider\"", "key `vertices`", "NaN"],
+    );
+    assert_rejected(
+        "inf young",
+        &mutate("young = 7.0e9", "young = inf"),
+        &["[[material]] \"limestone\"", "key `young`", "infinite"],
+    );
+    assert_rejected(
+        "-inf traction",
+        &mutate("traction = [0.0, -1.0e6]", "traction = [0.0, -inf]"),
+        &[
+            "[[load]] #1 (block \"slider\")",
+            "key `traction`",
+            "infinite",
+        ],
+    );
+    assert_rejected(
+        "nan table",
+        &mutate("[0.01, 0.05, 0.0]", "[0.01, nan, 0.0]"),
+        &["[base_motion]", "key `table`", "NaN"],
+    );
+}
+
+#[test]
+fn segments_off_the_boundary() {
+    assert_rejected(
+        "load",
+        &mutate("edge = [[0.0, 1.5], [1.0, 1.5]]", "edge = [[0.0, 1.25], [1.0, 1.25]]"),
+        &["[[load]] #1 (block \"slider\"): key `edge`: segment [[0,1.25],[1,1.25]] is not on the boundary of block \"slider\""],
+    );
+    assert_rejected(
+        "constraint",
+        &mutate(
+            "edge = [[2.0, 1.1], [2.0, 1.2]]",
+            "edge = [[2.0, 1.1], [2.0, 1.6]]",
+        ),
+        &[
+            "[[constraint]] #1 (block \"upper\")",
+            "key `edge`",
+            "not on the boundary of block \"upper\"",
+        ],
+    );
+    assert_rejected(
+        "point load outside",
+        &mutate(
+            "edge = [[0.0, 1.5], [1.0, 1.5]]\ntraction = [0.0, -1.0e6]",
+            "point = [1.5, 1.2]\nforce = [0.0, -1.0]",
+        ),
+        &[
+            "[[load]] #1 (block \"slider\")",
+            "key `point`",
+            "outside block \"slider\"",
+        ],
+    );
+}
+
+#[test]
+fn missing_files() {
+    let dir = tempfile::tempdir().unwrap();
+    assert_fails(
+        "missing model",
+        &dir.path().join("nothing.toml"),
+        &["nothing.toml", "cannot read the model file"],
+    );
+    assert_rejected(
+        "missing record",
+        &mutate(
+            "table = [[0.0, 0.0, 0.0], [0.01, 0.05, 0.0]]",
+            "file = \"quake.csv\"",
+        ),
+        &["[base_motion]", "key `file`", "quake.csv"],
+    );
+}
+
+#[test]
+fn unknown_keys() {
+    assert_rejected(
+        "top level",
+        &format!("{EXAMPLE}\n[solver]\nkind = 1\n"),
+        &["top level", "unknown key `solver`"],
+    );
+    assert_rejected(
+        "analysis",
+        &mutate("output_every = 10", "output_evry = 10"),
+        &["[analysis]", "unknown key `output_evry`"],
+    );
+    assert_rejected(
+        "block",
+        &mutate("fixed = true", "fixed = true\ncolor = \"red\""),
+        &["[[block]] \"base\"", "unknown key `color`"],
+    );
+    assert_rejected(
+        "interface",
+        &mutate("cohesion = 0.0", "cohesion = 0.0\ndilation = 0.0"),
+        &["[[interface]] #2", "unknown key `dilation`"],
+    );
+    assert_rejected(
+        "load",
+        &mutate(
+            "traction = [0.0, -1.0e6]",
+            "traction = [0.0, -1.0e6]\nramp = 1",
+        ),
+        &["[[load]] #1 (block \"slider\")", "unknown key `ramp`"],
+    );
+    assert_rejected(
+        "monitor",
+        &mutate("point = [1.5, 1.2]", "point = [1.5, 1.2]\nevery = 2"),
+        &["[[monitor]] \"crest\"", "unknown key `every`"],
+    );
+    assert_rejected(
+        "base motion",
+        &mutate("[base_motion]", "[base_motion]\nunits = \"g\""),
+        &["[base_motion]", "unknown key `units`"],
+    );
+}
+
+#[test]
+fn wrong_types_and_shapes() {
+    assert_rejected(
+        "dt string",
+        &mutate("dt = 0.001", "dt = \"fast\""),
+        &["[analysis]", "key `dt`", "expected a number"],
+    );
+    assert_rejected(
+        "single block table",
+        &mutate("[[block]]\nname = \"upper\"", "[block]\nname = \"upper\""),
+        &["TOML syntax error"],
+    );
+    assert_rejected(
+        "missing analysis",
+        &mutate("[analysis]", "[analysis_old]"),
+        &["top level", "unknown key `analysis_old`"],
+    );
+    assert_rejected("pair uncovered", &mutate("[[interface]]\nfriction_angle = 30.0\nnormal_penalty = 1.0e10\nshear_penalty = 1.0e7\n", ""), &["[[interface]]", "\"base\" and \"upper\""]);
+}

@@ -226,7 +226,7 @@ mod tests {
             f64::MAX,
             f64::MIN,
             1e-5,
-            9.999999999999999e15,
+            1e16 - 2.0,
         ] {
             let back: f64 = fmt(v).parse().unwrap();
             assert_eq!(back.to_bits(), v.to_bits());

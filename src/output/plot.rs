@@ -224,7 +224,8 @@ fn ensure_font() -> Result<(), PlotError> {
 /// Tick label: plain decimals with as many digits as the tick spacing needs, exponent
 /// notation for very large or very small magnitudes.
 fn tick_label(v: f64, span: f64) -> String {
-    if v == 0.0 {
+    // Ticks are generated in floating point: a tick meant to be 0 may come out as 1e-17.
+    if v == 0.0 || v.abs() < 1e-9 * span {
         return "0".to_string();
     }
     let mag = v.abs();
@@ -345,13 +346,42 @@ fn draw_panel<'a, DB: DrawingBackend + 'a>(
     if has_legend {
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(legend_corner(panel, x_range, &y_range))
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(160, 160, 160))
             .label_font(("sans-serif", 13))
             .draw()?;
     }
     Ok(())
+}
+
+/// The corner of the plot holding the fewest data points (first of upper right, upper left,
+/// lower right, lower left on ties): each corner is 45 % of the width by 40 % of the height.
+fn legend_corner(panel: &Panel, x: &Range<f64>, y: &Range<f64>) -> SeriesLabelPosition {
+    let (w, h) = (x.end - x.start, y.end - y.start);
+    let mut count = [0usize; 4];
+    for &(px, py) in panel.series.iter().flat_map(|s| s.points.iter()) {
+        let (fx, fy) = ((px - x.start) / w, (py - y.start) / h);
+        if !(fx.is_finite() && fy.is_finite()) {
+            continue;
+        }
+        let right = fx >= 0.55;
+        let left = fx <= 0.45;
+        let top = fy >= 0.6;
+        let bottom = fy <= 0.4;
+        count[0] += (top && right) as usize;
+        count[1] += (top && left) as usize;
+        count[2] += (bottom && right) as usize;
+        count[3] += (bottom && left) as usize;
+    }
+    let best = (0..4).min_by_key(|&k| count[k]).unwrap_or(0);
+    [
+        SeriesLabelPosition::UpperRight,
+        SeriesLabelPosition::UpperLeft,
+        SeriesLabelPosition::LowerRight,
+        SeriesLabelPosition::LowerLeft,
+    ][best]
+        .clone()
 }
 
 /// Sets the legend mark of a series: a short line, a dashed line or a dot.
@@ -420,5 +450,6 @@ mod tests {
         assert_eq!(tick_label(0.25, 1.0), "0.25");
         assert_eq!(tick_label(3.0, 100.0), "3");
         assert_eq!(tick_label(1.5e-6, 1e-5), "1.50e-6");
+        assert_eq!(tick_label(-2.2e-16, 2.0), "0");
     }
 }

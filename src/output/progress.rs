@@ -45,7 +45,7 @@ impl Progress {
     pub fn set(&self, step: usize, time: f64) {
         self.bar.set_position(step as u64);
         if self.drawn {
-            self.bar.set_message(format!("{time:.6e} s"));
+            self.bar.set_message(format_time(time));
         }
     }
 
@@ -69,6 +69,19 @@ impl Progress {
     }
 }
 
+/// Simulated time for display: six decimals, trailing zeros trimmed (`0.28 s`), or three
+/// significant digits in exponent form outside `[1e-3, 1e6)` (`2.500e-5 s`).
+fn format_time(t: f64) -> String {
+    if t == 0.0 {
+        return "0 s".to_string();
+    }
+    if !(1e-3..1e6).contains(&t.abs()) {
+        return format!("{t:.3e} s");
+    }
+    let s = format!("{t:.6}");
+    format!("{} s", s.trim_end_matches('0').trim_end_matches('.'))
+}
+
 impl Drop for Progress {
     fn drop(&mut self) {
         if !self.bar.is_finished() {
@@ -79,7 +92,16 @@ impl Drop for Progress {
 
 #[cfg(test)]
 mod tests {
-    use super::Progress;
+    use super::{format_time, Progress};
+
+    #[test]
+    fn times_are_short() {
+        assert_eq!(format_time(0.0), "0 s");
+        assert_eq!(format_time(0.1 + 0.18), "0.28 s");
+        assert_eq!(format_time(12.0), "12 s");
+        assert_eq!(format_time(2.5e-5), "2.500e-5 s");
+        assert_eq!(format_time(f64::NAN), "NaN s");
+    }
 
     #[test]
     fn hidden_bar_tracks_position_without_drawing() {

@@ -201,7 +201,9 @@ pub enum Encoding {
     /// Inline base64 of `[u64 byte count][little-endian values]` (compact, exact).
     #[default]
     Binary,
-    /// Space-separated text, shortest round-trip decimals (readable, larger).
+    /// Space-separated text, shortest round-trip decimals (readable, larger). VTK's text
+    /// reader does not parse `nan`/`inf`: use [`Encoding::Binary`] for data that may hold
+    /// non-finite values.
     Ascii,
 }
 
@@ -483,32 +485,18 @@ fn write_raw_array<W: Write>(
             )?;
         }
         Encoding::Ascii => {
+            // Each value is followed by a space (VTK's text reader splits on white space).
             let mut s = String::new();
-            let push = |s: &mut String, first: &mut bool| {
-                if !*first {
-                    s.push(' ');
-                }
-                *first = false;
-            };
-            let mut first = true;
             match values {
                 Raw::F64(it) => it.for_each(|v| {
-                    push(&mut s, &mut first);
                     super::history::format_f64(v, &mut s);
+                    s.push(' ');
                 }),
-                Raw::I64(it) => it.for_each(|v| {
-                    push(&mut s, &mut first);
-                    s.push_str(&v.to_string());
-                }),
-                Raw::I32(it) => it.for_each(|v| {
-                    push(&mut s, &mut first);
-                    s.push_str(&v.to_string());
-                }),
-                Raw::U8(it) => it.for_each(|v| {
-                    push(&mut s, &mut first);
-                    s.push_str(&v.to_string());
-                }),
+                Raw::I64(it) => it.for_each(|v| s.push_str(&format!("{v} "))),
+                Raw::I32(it) => it.for_each(|v| s.push_str(&format!("{v} "))),
+                Raw::U8(it) => it.for_each(|v| s.push_str(&format!("{v} "))),
             }
+            s.pop();
             w.write_all(s.as_bytes())?;
         }
     }

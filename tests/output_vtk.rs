@@ -1,0 +1,380 @@
+//! VTK writers: the `.vtu` is re-parsed as XML (quick-xml), its counts, offsets and types are
+//! checked and every base64 body is decoded back to the numbers given; `.pvd` collections are
+//! re-parsed after every frame.
+
+use base64::Engine;
+use nmm::output::vtk::{write_vtu_with, Encoding};
+use nmm::output::{write_vtu, Cell, DataArray, Grid, PvdWriter};
+use quick_xml::events::Event;
+use std::collections::HashMap;
+use std::path::Path;
+
+/// A minimal DOM: enough to walk a VTK file.
+#[derive(Debug, Default)]
+struct Node {
+    name: String,
+    attrs: HashMap<String, String>,
+    text: String,
+    children: Vec<Node>,
+}
+
+impl Node {
+    fn child(&self, name: &str) -> &Node {
+        self.children
+            .iter()
+            .find(|c| c.name == name)
+            .unwrap_or_else(|| panic!("<{}> has no <{name}>", self.name))
+    }
+    fn all(&self, name: &str) -> Vec<&Node> {
+        self.children.iter().filter(|c| c.name == name).collect()
+    }
+    fn attr(&self, key: &str) -> &str {
+        self.attrs
+            .get(key)
+            .unwrap_or_else(|| panic!("<{}> has no attribute {key}", self.name))
+    }
+    fn array(&self, name: &str) -> &Node {
+        self.all("DataArray")
+            .into_iter()
+            .find(|a| a.attr("Name") == name)
+            .unwrap_or_else(|| panic!("no DataArray {name}"))
+    }
+}
+
+fn parse(path: &Path) -> Node {
+    let xml = std::fs::read_to_string(path).unwrap();
+    let mut reader = quick_xml::Reader::from_str(&xml);
+    let mut stack = vec![Node::default()];
+    let start = |e: &quick_xml::events::BytesStart| {
+        let mut n = Node {
+            name: String::from_utf8(e.name().as_ref().to_vec()).unwrap(),
+            ..Node::default()
+        };
+        for a in e.attributes() {
+            let a = a.unwrap();
+            n.attrs.insert(
+                String::from_utf8(a.key.as_ref().to_vec()).unwrap(),
+                a.unescape_value().unwrap().into_owned(),
+            );
+        }
+        n
+    };
+    loop {
+        match reader.read_event().unwrap() {
+            Event::Start(e) => stack.push(start(&e)),
+            Event::Empty(e) => stack.last_mut().unwrap().children.push(start(&e)),
+            Event::End(_) => {
+                let n = stack.pop().unwrap();
+                stack.last_mut().unwrap().children.push(n);
+            }
+            Event::Text(t) => stack
+                .last_mut()
+                .unwrap()
+                .text
+                .push_str(&t.decode().unwrap()),
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    assert_eq!(stack.len(), 1, "unbalanced XML");
+    let mut doc = stack.pop().unwrap();
+    assert_eq!(doc.children.len(), 1, "one root element");
+    doc.children.pop().unwrap()
+}
+
+/// Decodes an inline binary body: u64 byte count, then the raw little-endian bytes.
+fn decode(node: &Node) -> Vec<u8> {
+    assert_eq!(node.attr("format"), "binary");
+    let bytes = base64::engine::general_purpose::STANDARD
+        .decode(node.text.trim())
+        .unwrap();
+    assert!(bytes.len() >= 8);
+    let n = u64::from_le_bytes(bytes[..8].try_into().unwrap()) as usize;
+    assert_eq!(n, bytes.len() - 8, "header byte count");
+    bytes[8..].to_vec()
+}
+
+fn f64s(node: &Node) -> Vec<f64> {
+    assert_eq!(node.attr("type"), "Float64");
+    decode(node)
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+        .collect()
+}
+
+fn i64s(node: &Node) -> Vec<i64> {
+    assert_eq!(node.attr("type"), "Int64");
+    decode(node)
+        .chunks_exact(8)
+        .map(|c| i64::from_le_bytes(c.try_into().unwrap()))
+        .collect()
+}
+
+fn i32s(node: &Node) -> Vec<i32> {
+    assert_eq!(node.attr("type"), "Int32");
+    decode(node)
+        .chunks_exact(4)
+        .map(|c| i32::from_le_bytes(c.try_into().unwrap()))
+        .collect()
+}
+
+fn sample_grid() -> Grid {
+    // A unit square block (points 0..4) and a contact point 4 on a line 1-4.
+    Grid {
+        points: vec![
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0],
+            [1.5, 0.1 + 0.2],
+        ],
+        cells: vec![
+            Cell::polygon(vec![0, 1, 2, 3]),
+            Cell::line(1, 4),
+            Cell::vertex(4),
+        ],
+        point_data: vec![
+            DataArray::vector2(
+                "displacement",
+                vec![
+                    0.0, 0.0, 1e-3, 0.0, 1e-3, -2e-3, 0.0, -2e-3, 1e-300, -5e-324,
+                ],
+            ),
+            DataArray::scalars("temperature", vec![1.0, 2.0, 3.0, 4.0, f64::NAN]),
+        ],
+        cell_data: vec![
+            DataArray::named_components(
+                "stress",
+                &["sxx", "syy", "sxy"],
+                vec![-1e5, -2e5, 3e3, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0],
+            ),
+            DataArray::int32("block", vec![0, -1, i32::MAX]),
+            DataArray::int32("state", vec![0, 1, 2]),
+        ],
+    }
+}
+
+#[test]
+fn binary_vtu_decodes_to_the_grid() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("blocks_000000.vtu");
+    let grid = sample_grid();
+    write_vtu(&path, &grid).unwrap();
+
+    let root = parse(&path);
+    assert_eq!(root.name, "VTKFile");
+    assert_eq!(root.attr("type"), "UnstructuredGrid");
+    assert_eq!(root.attr("byte_order"), "LittleEndian");
+    assert_eq!(root.attr("header_type"), "UInt64");
+    let piece = root.child("UnstructuredGrid").child("Piece");
+    assert_eq!(piece.attr("NumberOfPoints"), "5");
+    assert_eq!(piece.attr("NumberOfCells"), "3");
+
+    let points = piece.child("Points").child("DataArray");
+    assert_eq!(points.attr("NumberOfComponents"), "3");
+    let xyz = f64s(points);
+    let expected: Vec<f64> = grid.points.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
+    assert_eq!(xyz, expected);
+
+    let cells = piece.child("Cells");
+    assert_eq!(i64s(cells.array("connectivity")), [0, 1, 2, 3, 1, 4, 4]);
+    assert_eq!(i64s(cells.array("offsets")), [4, 6, 7]);
+    let types = cells.array("types");
+    assert_eq!(types.attr("type"), "UInt8");
+    assert_eq!(decode(types), [7, 3, 1]);
+
+    let pd = piece.child("PointData");
+    let disp = pd.array("displacement");
+    assert_eq!(disp.attr("NumberOfComponents"), "3");
+    let d = f64s(disp);
+    assert_eq!(d.len(), 15);
+    let nmm::output::Values::Float64(given) = &grid.point_data[0].values else {
+        panic!("displacement is Float64")
+    };
+    for k in 0..5 {
+        assert_eq!(d[3 * k].to_bits(), given[2 * k].to_bits());
+        assert_eq!(d[3 * k + 1].to_bits(), given[2 * k + 1].to_bits());
+        assert_eq!(d[3 * k + 2], 0.0, "z component of a 2-D vector");
+    }
+    assert_eq!(d[13].to_bits(), (-5e-324f64).to_bits());
+    let temp = f64s(pd.array("temperature"));
+    assert_eq!(temp[..4], [1.0, 2.0, 3.0, 4.0]);
+    assert!(temp[4].is_nan(), "binary keeps NaN as is");
+
+    let cd = piece.child("CellData");
+    let stress = cd.array("stress");
+    assert_eq!(stress.attr("NumberOfComponents"), "3");
+    assert_eq!(stress.attr("ComponentName0"), "sxx");
+    assert_eq!(stress.attr("ComponentName2"), "sxy");
+    assert_eq!(
+        f64s(stress),
+        [-1e5, -2e5, 3e3, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0]
+    );
+    assert_eq!(i32s(cd.array("block")), [0, -1, i32::MAX]);
+    assert_eq!(i32s(cd.array("state")), [0, 1, 2]);
+}
+
+#[test]
+fn ascii_vtu_reads_back_the_same_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("a.vtu");
+    let mut grid = sample_grid();
+    grid.point_data.pop(); // the NaN column: ASCII readers of VTK do not parse "nan"
+    write_vtu_with(&path, &grid, Encoding::Ascii).unwrap();
+    let root = parse(&path);
+    let piece = root.child("UnstructuredGrid").child("Piece");
+    let nums = |n: &Node| -> Vec<f64> {
+        assert_eq!(n.attr("format"), "ascii");
+        n.text
+            .split_whitespace()
+            .map(|s| s.parse().unwrap())
+            .collect()
+    };
+    let xyz = nums(piece.child("Points").child("DataArray"));
+    assert_eq!(xyz[13].to_bits(), (0.1f64 + 0.2).to_bits());
+    assert_eq!(nums(piece.child("Cells").array("offsets")), [4.0, 6.0, 7.0]);
+    assert_eq!(nums(piece.child("Cells").array("types")), [7.0, 3.0, 1.0]);
+    let d = nums(piece.child("PointData").array("displacement"));
+    assert_eq!(d[12], 1e-300);
+    assert_eq!(d[13].to_bits(), (-5e-324f64).to_bits());
+    assert_eq!(
+        nums(piece.child("CellData").array("block")),
+        [0.0, -1.0, i32::MAX as f64]
+    );
+}
+
+#[test]
+fn empty_grid_is_a_valid_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("contacts_000000.vtu");
+    let grid = Grid {
+        cell_data: vec![
+            DataArray::vector2("force", vec![]),
+            DataArray::int32("state", vec![]),
+        ],
+        ..Grid::default()
+    };
+    write_vtu(&path, &grid).unwrap();
+    let root = parse(&path);
+    let piece = root.child("UnstructuredGrid").child("Piece");
+    assert_eq!(piece.attr("NumberOfPoints"), "0");
+    assert_eq!(piece.attr("NumberOfCells"), "0");
+    assert!(f64s(piece.child("Points").child("DataArray")).is_empty());
+    for name in ["connectivity", "offsets"] {
+        assert!(i64s(piece.child("Cells").array(name)).is_empty());
+    }
+    assert!(decode(piece.child("Cells").array("types")).is_empty());
+    assert!(f64s(piece.child("CellData").array("force")).is_empty());
+    assert!(i32s(piece.child("CellData").array("state")).is_empty());
+}
+
+#[test]
+fn names_with_xml_characters_are_escaped() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("n.vtu");
+    let grid = Grid {
+        points: vec![[0.0, 0.0]],
+        cells: vec![Cell::vertex(0)],
+        point_data: vec![DataArray::scalars("a<b & \"c\"", vec![1.0])],
+        cell_data: vec![],
+    };
+    write_vtu(&path, &grid).unwrap();
+    let piece = parse(&path);
+    let pd = piece
+        .child("UnstructuredGrid")
+        .child("Piece")
+        .child("PointData");
+    assert_eq!(f64s(pd.array("a<b & \"c\"")), [1.0]);
+}
+
+#[test]
+fn invalid_grids_are_errors_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: Vec<(&str, Grid)> = vec![
+        (
+            "index out of range",
+            Grid {
+                points: vec![[0.0, 0.0], [1.0, 0.0]],
+                cells: vec![Cell::line(0, 2)],
+                ..Grid::default()
+            },
+        ),
+        (
+            "polygon with two points",
+            Grid {
+                points: vec![[0.0, 0.0], [1.0, 0.0]],
+                cells: vec![Cell::polygon(vec![0, 1])],
+                ..Grid::default()
+            },
+        ),
+        ("array too short", {
+            let mut g = sample_grid();
+            g.point_data.push(DataArray::scalars("short", vec![1.0; 4]));
+            g
+        }),
+        ("duplicate name", {
+            let mut g = sample_grid();
+            g.cell_data.push(DataArray::int32("state", vec![0; 3]));
+            g
+        }),
+        ("component names do not match", {
+            let mut g = sample_grid();
+            g.cell_data[0].component_names.pop();
+            g
+        }),
+        ("non-finite point", {
+            let mut g = sample_grid();
+            g.points[2][1] = f64::INFINITY;
+            g
+        }),
+    ];
+    for (what, grid) in cases {
+        let path = dir.path().join("bad.vtu");
+        let e = write_vtu(&path, &grid).expect_err(what);
+        assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput, "{what}: {e}");
+        assert!(!path.exists(), "{what}: file written");
+    }
+}
+
+fn frames(path: &Path) -> Vec<(String, String)> {
+    let root = parse(path);
+    assert_eq!(root.attr("type"), "Collection");
+    root.child("Collection")
+        .all("DataSet")
+        .iter()
+        .map(|d| (d.attr("timestep").to_string(), d.attr("file").to_string()))
+        .collect()
+}
+
+#[test]
+fn pvd_is_valid_after_every_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("blocks.pvd");
+    let mut pvd = PvdWriter::new(&path).unwrap();
+    assert!(frames(&path).is_empty(), "valid empty collection at once");
+    let times = [0.0, 0.1 + 0.2, 1e-7, 12.5];
+    for (k, t) in times.iter().enumerate() {
+        let name = nmm::output::frame_file_name("blocks", k * 10);
+        write_vtu(&dir.path().join(&name), &sample_grid()).unwrap();
+        pvd.add(*t, &name).unwrap();
+        let f = frames(&path);
+        assert_eq!(f.len(), k + 1);
+        assert_eq!(f[k].0.parse::<f64>().unwrap().to_bits(), t.to_bits());
+        assert_eq!(f[k].1, name);
+        assert!(dir.path().join(&f[k].1).exists());
+    }
+    assert_eq!(frames(&path)[3].1, "blocks_000030.vtu");
+    assert!(pvd.add(f64::NAN, "x.vtu").is_err());
+    assert_eq!(
+        frames(&path).len(),
+        4,
+        "a refused frame leaves the file as it was"
+    );
+    // No temporary file is left behind.
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect();
+    assert!(names.is_empty(), "{names:?}");
+}

@@ -21,6 +21,11 @@ pub mod generate;
 pub mod narrow;
 
 pub use broad::sweep_and_prune;
-pub use friction::{commit, conventional, evaluate, return_mapping, ContactStatus, FrictionParams, LawResponse, ShearHistory};
+pub use friction::{
+    commit, conventional, evaluate, return_mapping, ContactStatus, FrictionParams, LawResponse,
+    ShearHistory,
+};
 pub use generate::brick_wall;
-pub use narrow::{corner_flags, vertex_edge_contacts, vertex_edge_contacts_with, NarrowParams, VertexEdge};
+pub use narrow::{
+    corner_flags, vertex_edge_contacts, vertex_edge_contacts_with, NarrowParams, VertexEdge,
+};

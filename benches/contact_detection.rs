@@ -5,6 +5,11 @@
 //! candidate pair). The search distance is 1e-3 brick length.
 //!
 //! Run: `cargo bench --bench contact_detection`.
+//!
+//! Measured on the shared 2-core development machine (medians, under load):
+//! broad 0.59 ms / 6.4 ms / 95 ms and broad+narrow 12 ms / 147 ms / 1.34 s
+//! for N = 1e3 / 1e4 / 1e5 (about 12 000 / 120 000 / 1.2 M vertices,
+//! 2.9 k / 30 k / 299 k candidate pairs): close to linear growth.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use nmm::contact::generate::BRICK_LENGTH;

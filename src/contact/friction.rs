@@ -59,7 +59,8 @@
 
 use crate::model::FrictionAlgorithm;
 
-/// Material constants of one contact.
+/// Material constants of one contact. The laws assume `pn > 0`, `ps > 0`,
+/// `tan_phi ≥ 0`, `cohesion ≥ 0` (validated with the model).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrictionParams {
     /// Normal penalty `p_N` (N/m per m).

@@ -3,13 +3,19 @@
 //! conventional rule overshoots it in the step where sliding starts.
 
 use nmm::contact::friction::{
-    commit, conventional, evaluate, return_mapping, ContactStatus, FrictionParams, LawResponse, ShearHistory,
+    commit, conventional, evaluate, return_mapping, ContactStatus, FrictionParams, LawResponse,
+    ShearHistory,
 };
 use nmm::model::FrictionAlgorithm;
 
 /// The direct-shear numbers of the paper: 1 MPa on 1 m, penalty 100 GN/m, φ = 30°.
 fn direct_shear_params() -> FrictionParams {
-    FrictionParams { pn: 1.0e11, ps: 1.0e11, tan_phi: 30f64.to_radians().tan(), cohesion: 0.0 }
+    FrictionParams {
+        pn: 1.0e11,
+        ps: 1.0e11,
+        tan_phi: 30f64.to_radians().tan(),
+        cohesion: 0.0,
+    }
 }
 
 const GN: f64 = -1.0e-5; // t_N = −1 MN/m
@@ -37,7 +43,10 @@ fn shear_through_block(alg: FrictionAlgorithm, steps: usize, du: f64) -> Vec<(La
             d -= res / (r.dts_dgs + kb);
             r = evaluate(alg, &p, &h, GN, d);
         }
-        assert!((r.ts - kb * (u - g_total - d)).abs() <= 1e-6 * p.strength(r.tn), "step did not converge");
+        assert!(
+            (r.ts - kb * (u - g_total - d)).abs() <= 1e-6 * p.strength(r.tn),
+            "step did not converge"
+        );
         g_total += d;
         out.push((r, p.strength(r.tn)));
         h = commit(alg, &p, &h, &r);
@@ -52,14 +61,22 @@ fn monotonic_shear_return_mapping_never_exceeds_strength() {
     let s = 1.0e6 * 30f64.to_radians().tan();
     for (r, strength) in &rm {
         assert!((strength - s).abs() < 1e-6 * s);
-        assert!(r.ts <= strength * (1.0 + 1e-12), "return mapping exceeded the strength: {} > {}", r.ts, strength);
+        assert!(
+            r.ts <= strength * (1.0 + 1e-12),
+            "return mapping exceeded the strength: {} > {}",
+            r.ts,
+            strength
+        );
     }
     // Elastic first step: springs in series, k_b p_S/(k_b + p_S) du = 545 kN/m < S.
     let p = direct_shear_params();
     assert_eq!(rm[0].0.status, ContactStatus::Stick);
     let series = KB * p.ps / (KB + p.ps) * 6.0e-5;
     assert!((rm[0].0.ts - series).abs() < 1e-6 * series);
-    let sliding: Vec<_> = rm.iter().filter(|(r, _)| r.status == ContactStatus::Slide).collect();
+    let sliding: Vec<_> = rm
+        .iter()
+        .filter(|(r, _)| r.status == ContactStatus::Slide)
+        .collect();
     assert!(!sliding.is_empty());
     for (r, strength) in sliding {
         assert!((r.ts - strength).abs() <= 1e-9 * strength);
@@ -71,14 +88,26 @@ fn monotonic_shear_conventional_overshoots_then_pulls_back() {
     let conv = shear_through_block(FrictionAlgorithm::Conventional, 5, 6.0e-5);
     let rm = shear_through_block(FrictionAlgorithm::ReturnMapping, 5, 6.0e-5);
     // Find the first step where the conventional force exceeds the strength.
-    let first = conv.iter().position(|(r, s)| r.ts > *s * (1.0 + 1e-6)).expect("the conventional rule must overshoot");
+    let first = conv
+        .iter()
+        .position(|(r, s)| r.ts > *s * (1.0 + 1e-6))
+        .expect("the conventional rule must overshoot");
     let (r, s) = conv[first];
     assert_eq!(r.status, ContactStatus::Stick);
     // The overshoot is the elastic force of the two springs in series after two steps.
     assert_eq!(first, 1);
-    assert!(r.ts > rm[first].0.ts, "conventional {} vs return mapping {}", r.ts, rm[first].0.ts);
+    assert!(
+        r.ts > rm[first].0.ts,
+        "conventional {} vs return mapping {}",
+        r.ts,
+        rm[first].0.ts
+    );
     let series = KB * 1.0e11 / (KB + 1.0e11) * 2.0 * 6.0e-5;
-    assert!((r.ts - series).abs() < 1e-6 * series, "elastic force {} vs {series}", r.ts);
+    assert!(
+        (r.ts - series).abs() < 1e-6 * series,
+        "elastic force {} vs {series}",
+        r.ts
+    );
     // Next step: sliding at the strength of the committed normal force.
     let (r2, s2) = conv[first + 1];
     assert_eq!(r2.status, ContactStatus::Slide);
@@ -114,7 +143,10 @@ fn load_reversal_slide_stick_slide_other_way() {
     assert_eq!(log[3].0, Stick);
     assert!((log[3].1 - (s - 2e5)).abs() < 1e-6 * s);
     assert_eq!(log[4].0, Stick);
-    let first_back_slide = log.iter().position(|(st, ts)| *st == Slide && *ts < 0.0).expect("must slide back");
+    let first_back_slide = log
+        .iter()
+        .position(|(st, ts)| *st == Slide && *ts < 0.0)
+        .expect("must slide back");
     // |S − k·2e5| ≥ S first at k = 6 (2S/2e5 = 5.77): step index 3 + 5 = 8.
     assert_eq!(first_back_slide, 8);
     assert!((log[8].1 + s).abs() < 1e-9 * s);
@@ -146,16 +178,25 @@ fn newton_iterations(p: &FrictionParams, drop_coupling: bool) -> (usize, [f64; 2
     let xs = [-1.0e-5, 1.0e-3];
     let rs = return_mapping(p, &h, xs[0], xs[1]);
     assert_eq!(rs.status, ContactStatus::Slide);
-    let f = [rs.tn + k[0][0] * xs[0] + k[0][1] * xs[1], rs.ts + k[1][0] * xs[0] + k[1][1] * xs[1]];
+    let f = [
+        rs.tn + k[0][0] * xs[0] + k[0][1] * xs[1],
+        rs.ts + k[1][0] * xs[0] + k[1][1] * xs[1],
+    ];
     let mut x = [-1.0e-6, 0.0];
     for it in 0..200 {
         let r = return_mapping(p, &h, x[0], x[1]);
-        let res = [r.tn + k[0][0] * x[0] + k[0][1] * x[1] - f[0], r.ts + k[1][0] * x[0] + k[1][1] * x[1] - f[1]];
+        let res = [
+            r.tn + k[0][0] * x[0] + k[0][1] * x[1] - f[0],
+            r.ts + k[1][0] * x[0] + k[1][1] * x[1] - f[1],
+        ];
         if res[0].hypot(res[1]) <= 1e-10 * f[0].hypot(f[1]) {
             return (it, x);
         }
         let dts_dgn = if drop_coupling { 0.0 } else { r.dts_dgn };
-        let j = [[r.dtn_dgn + k[0][0], r.dtn_dgs + k[0][1]], [dts_dgn + k[1][0], r.dts_dgs + k[1][1]]];
+        let j = [
+            [r.dtn_dgn + k[0][0], r.dtn_dgs + k[0][1]],
+            [dts_dgn + k[1][0], r.dts_dgs + k[1][1]],
+        ];
         let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
         x[0] -= (j[1][1] * res[0] - j[0][1] * res[1]) / det;
         x[1] -= (-j[1][0] * res[0] + j[0][0] * res[1]) / det;
@@ -165,12 +206,23 @@ fn newton_iterations(p: &FrictionParams, drop_coupling: bool) -> (usize, [f64; 2
 
 #[test]
 fn newton_with_consistent_tangent_converges_in_few_iterations() {
-    let p = FrictionParams { pn: 1.0e11, ps: 1.0e9, tan_phi: 0.6, cohesion: 0.0 };
+    let p = FrictionParams {
+        pn: 1.0e11,
+        ps: 1.0e9,
+        tan_phi: 0.6,
+        cohesion: 0.0,
+    };
     let (it_consistent, x) = newton_iterations(&p, false);
     let (it_dropped, _) = newton_iterations(&p, true);
-    assert!(it_consistent <= 4, "consistent tangent took {it_consistent} iterations");
+    assert!(
+        it_consistent <= 4,
+        "consistent tangent took {it_consistent} iterations"
+    );
     assert!((x[0] + 1.0e-5).abs() < 1e-12 && (x[1] - 1.0e-3).abs() < 1e-10);
-    assert!(it_dropped > it_consistent + 2, "dropped coupling: {it_dropped} vs {it_consistent}");
+    assert!(
+        it_dropped > it_consistent + 2,
+        "dropped coupling: {it_dropped} vs {it_consistent}"
+    );
     println!("Newton iterations: consistent {it_consistent}, without dts/dgn {it_dropped}");
 }
 
@@ -179,7 +231,12 @@ fn return_mapping_is_path_independent_within_a_step() {
     // The law is evaluated from the committed state, so the iterate history of
     // a Newton loop does not matter: same (g_N, Δg_S) → same response.
     let p = direct_shear_params();
-    let h = ShearHistory { ge: 1e-6, status: ContactStatus::Stick, tn: -1e6, slide_sign: 0.0 };
+    let h = ShearHistory {
+        ge: 1e-6,
+        status: ContactStatus::Stick,
+        tn: -1e6,
+        slide_sign: 0.0,
+    };
     let a = return_mapping(&p, &h, GN, 3e-5);
     let _ = return_mapping(&p, &h, GN, -7e-5);
     let b = return_mapping(&p, &h, GN, 3e-5);

@@ -38,7 +38,10 @@ pub fn sweep_and_prune(boxes: &[Aabb]) -> Vec<(usize, usize)> {
     let mut by_max = by_min.clone();
     by_min.sort_unstable_by(|&a, &b| boxes[a].min[0].total_cmp(&boxes[b].min[0]));
     by_max.sort_unstable_by(|&a, &b| boxes[a].max[0].total_cmp(&boxes[b].max[0]));
-    let h_max = by_min.iter().map(|&i| boxes[i].max[1] - boxes[i].min[1]).fold(0.0, f64::max);
+    let h_max = by_min
+        .iter()
+        .map(|&i| boxes[i].max[1] - boxes[i].min[1])
+        .fold(0.0, f64::max);
 
     let mut active: BTreeSet<(i64, usize)> = BTreeSet::new();
     let mut expire = 0;
@@ -94,15 +97,26 @@ mod tests {
 
     #[test]
     fn touching_and_invalid_boxes() {
-        let b = |x0: f64, y0: f64, x1: f64, y1: f64| Aabb { min: [x0, y0], max: [x1, y1] };
-        let boxes = [b(0., 0., 1., 1.), b(1., 1., 2., 2.), b(2.0001, 0., 3., 1.), Aabb::empty(), b(0.5, 0.5, f64::NAN, 0.7)];
+        let b = |x0: f64, y0: f64, x1: f64, y1: f64| Aabb {
+            min: [x0, y0],
+            max: [x1, y1],
+        };
+        let boxes = [
+            b(0., 0., 1., 1.),
+            b(1., 1., 2., 2.),
+            b(2.0001, 0., 3., 1.),
+            Aabb::empty(),
+            b(0.5, 0.5, f64::NAN, 0.7),
+        ];
         assert_eq!(sweep_and_prune(&boxes), vec![(0, 1)]);
         assert!(sweep_and_prune(&[]).is_empty());
     }
 
     fn arb_box() -> impl Strategy<Value = Aabb> {
-        (-50.0..50.0f64, -50.0..50.0f64, 0.0..8.0f64, 0.0..8.0f64)
-            .prop_map(|(x, y, w, h)| Aabb { min: [x, y], max: [x + w, y + h] })
+        (-50.0..50.0f64, -50.0..50.0f64, 0.0..8.0f64, 0.0..8.0f64).prop_map(|(x, y, w, h)| Aabb {
+            min: [x, y],
+            max: [x + w, y + h],
+        })
     }
 
     proptest! {

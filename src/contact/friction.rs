@@ -59,7 +59,8 @@
 
 use crate::model::FrictionAlgorithm;
 
-/// Material constants of one contact.
+/// Material constants of one contact. The laws assume `pn > 0`, `ps > 0`,
+/// `tan_phi ≥ 0`, `cohesion ≥ 0` (validated with the model).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrictionParams {
     /// Normal penalty `p_N` (N/m per m).
@@ -197,7 +198,11 @@ pub fn conventional(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> 
     match h.status {
         ContactStatus::Open | ContactStatus::Stick => stick(p, h, tn, dgs),
         ContactStatus::Slide => {
-            let s = if h.slide_sign == 0.0 { 1.0 } else { sgn(h.slide_sign) };
+            let s = if h.slide_sign == 0.0 {
+                1.0
+            } else {
+                sgn(h.slide_sign)
+            };
             if s * dgs < 0.0 {
                 // Reversal: back to the elastic spring.
                 return stick(p, h, tn, dgs);
@@ -220,7 +225,13 @@ pub fn conventional(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> 
 }
 
 /// Evaluate the law selected by `alg`.
-pub fn evaluate(alg: FrictionAlgorithm, p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> LawResponse {
+pub fn evaluate(
+    alg: FrictionAlgorithm,
+    p: &FrictionParams,
+    h: &ShearHistory,
+    gn: f64,
+    dgs: f64,
+) -> LawResponse {
     match alg {
         FrictionAlgorithm::ReturnMapping => return_mapping(p, h, gn, dgs),
         FrictionAlgorithm::Conventional => conventional(p, h, gn, dgs),
@@ -233,7 +244,12 @@ pub fn evaluate(alg: FrictionAlgorithm, p: &FrictionParams, h: &ShearHistory, gn
 /// elastic contact whose force reached the strength `S(r.tn)` is switched to
 /// `Slide` for the next step (its force in this step stays as computed: the
 /// overshoot), with `g_S^e = sgn(t_S) S / p_S`.
-pub fn commit(alg: FrictionAlgorithm, p: &FrictionParams, h: &ShearHistory, r: &LawResponse) -> ShearHistory {
+pub fn commit(
+    alg: FrictionAlgorithm,
+    p: &FrictionParams,
+    h: &ShearHistory,
+    r: &LawResponse,
+) -> ShearHistory {
     match r.status {
         ContactStatus::Open => ShearHistory::default(),
         ContactStatus::Slide => ShearHistory {
@@ -255,9 +271,19 @@ pub fn commit(alg: FrictionAlgorithm, p: &FrictionParams, h: &ShearHistory, r: &
             let strength = p.strength(r.tn);
             if alg == FrictionAlgorithm::Conventional && r.ts.abs() >= strength {
                 let s = sgn(r.ts);
-                ShearHistory { ge: s * strength / p.ps, status: ContactStatus::Slide, tn: r.tn, slide_sign: s }
+                ShearHistory {
+                    ge: s * strength / p.ps,
+                    status: ContactStatus::Slide,
+                    tn: r.tn,
+                    slide_sign: s,
+                }
             } else {
-                ShearHistory { ge: r.ge, status: ContactStatus::Stick, tn: r.tn, slide_sign: 0.0 }
+                ShearHistory {
+                    ge: r.ge,
+                    status: ContactStatus::Stick,
+                    tn: r.tn,
+                    slide_sign: 0.0,
+                }
             }
         }
     }
@@ -268,10 +294,20 @@ mod tests {
     use super::*;
     use approx::assert_relative_eq;
 
-    const P: FrictionParams = FrictionParams { pn: 1.0e11, ps: 1.0e9, tan_phi: 0.577_350_269_189_625_8, cohesion: 0.0 };
+    const P: FrictionParams = FrictionParams {
+        pn: 1.0e11,
+        ps: 1.0e9,
+        tan_phi: 0.577_350_269_189_625_8,
+        cohesion: 0.0,
+    };
 
     fn committed(ge: f64, status: ContactStatus, tn: f64, slide_sign: f64) -> ShearHistory {
-        ShearHistory { ge, status, tn, slide_sign }
+        ShearHistory {
+            ge,
+            status,
+            tn,
+            slide_sign,
+        }
     }
 
     #[test]
@@ -281,7 +317,10 @@ mod tests {
             let r = law(&P, &h, 1e-6, 3e-4);
             assert_eq!(r.status, ContactStatus::Open);
             assert_eq!((r.tn, r.ts, r.ge), (0.0, 0.0, 0.0));
-            assert_eq!((r.dtn_dgn, r.dtn_dgs, r.dts_dgn, r.dts_dgs), (0.0, 0.0, 0.0, 0.0));
+            assert_eq!(
+                (r.dtn_dgn, r.dtn_dgs, r.dts_dgn, r.dts_dgs),
+                (0.0, 0.0, 0.0, 0.0)
+            );
             // g_N = 0 exactly counts as open.
             assert_eq!(law(&P, &h, 0.0, 3e-4).status, ContactStatus::Open);
         }
@@ -331,15 +370,25 @@ mod tests {
         let p = FrictionParams { cohesion: 2e5, ..P };
         let h = ShearHistory::default();
         // trial 7e5 < 1e6 tanφ + 2e5 = 777 kN/m: stick (it would slide without cohesion).
-        assert_eq!(return_mapping(&p, &h, -1e-5, 7e-4).status, ContactStatus::Stick);
-        assert_eq!(return_mapping(&P, &h, -1e-5, 7e-4).status, ContactStatus::Slide);
+        assert_eq!(
+            return_mapping(&p, &h, -1e-5, 7e-4).status,
+            ContactStatus::Stick
+        );
+        assert_eq!(
+            return_mapping(&P, &h, -1e-5, 7e-4).status,
+            ContactStatus::Slide
+        );
         let r = return_mapping(&p, &h, -1e-5, 1e-3);
         assert_relative_eq!(r.ts, 1e6 * P.tan_phi + 2e5, max_relative = 1e-14);
         // The consistent tangent does not depend on c.
         assert_relative_eq!(r.dts_dgn, -P.pn * P.tan_phi, max_relative = 1e-14);
         // Conventional slide uses the committed force plus cohesion.
         let hs = committed(0.0, ContactStatus::Slide, -2e6, 1.0);
-        assert_relative_eq!(conventional(&p, &hs, -1e-5, 1e-4).ts, 2e6 * P.tan_phi + 2e5, max_relative = 1e-14);
+        assert_relative_eq!(
+            conventional(&p, &hs, -1e-5, 1e-4).ts,
+            2e6 * P.tan_phi + 2e5,
+            max_relative = 1e-14
+        );
     }
 
     #[test]
@@ -376,20 +425,34 @@ mod tests {
         // Return-mapping commit keeps the response state.
         let r = return_mapping(&P, &h, -1e-5, 1e-3);
         let c = commit(FrictionAlgorithm::ReturnMapping, &P, &h, &r);
-        assert_eq!((c.status, c.ge, c.tn, c.slide_sign), (ContactStatus::Slide, r.ge, r.tn, 1.0));
+        assert_eq!(
+            (c.status, c.ge, c.tn, c.slide_sign),
+            (ContactStatus::Slide, r.ge, r.tn, 1.0)
+        );
         // Below the strength, both keep sticking.
-        for alg in [FrictionAlgorithm::ReturnMapping, FrictionAlgorithm::Conventional] {
+        for alg in [
+            FrictionAlgorithm::ReturnMapping,
+            FrictionAlgorithm::Conventional,
+        ] {
             let r = evaluate(alg, &P, &h, -1e-5, 1e-4);
             let c = commit(alg, &P, &h, &r);
             assert_eq!((c.status, c.ge), (ContactStatus::Stick, 1e-4));
         }
         // Opening resets everything.
         let r = conventional(&P, &h, 1e-6, 1e-3);
-        assert_eq!(commit(FrictionAlgorithm::Conventional, &P, &h, &r), ShearHistory::default());
+        assert_eq!(
+            commit(FrictionAlgorithm::Conventional, &P, &h, &r),
+            ShearHistory::default()
+        );
     }
 
     /// Central finite differences of (t_N, t_S) in (g_N, Δg_S).
-    fn check_tangent(law: fn(&FrictionParams, &ShearHistory, f64, f64) -> LawResponse, h: &ShearHistory, gn: f64, dgs: f64) {
+    fn check_tangent(
+        law: fn(&FrictionParams, &ShearHistory, f64, f64) -> LawResponse,
+        h: &ShearHistory,
+        gn: f64,
+        dgs: f64,
+    ) {
         let r = law(&P, h, gn, dgs);
         let (eg, es) = (1e-9 * gn.abs(), 1e-9 * dgs.abs().max(1e-6));
         let fd = |f: &dyn Fn(&LawResponse) -> f64| {
@@ -400,8 +463,17 @@ mod tests {
         let (a, b) = fd(&|x| x.tn);
         let (c, d) = fd(&|x| x.ts);
         let scale = P.pn.max(P.ps);
-        for (fdv, an) in [(a, r.dtn_dgn), (b, r.dtn_dgs), (c, r.dts_dgn), (d, r.dts_dgs)] {
-            assert!((fdv - an).abs() <= 1e-5 * scale, "status {:?}: fd {fdv} vs analytic {an}", r.status);
+        for (fdv, an) in [
+            (a, r.dtn_dgn),
+            (b, r.dtn_dgs),
+            (c, r.dts_dgn),
+            (d, r.dts_dgs),
+        ] {
+            assert!(
+                (fdv - an).abs() <= 1e-5 * scale,
+                "status {:?}: fd {fdv} vs analytic {an}",
+                r.status
+            );
         }
     }
 
@@ -411,7 +483,13 @@ mod tests {
         let slide = committed(5e-4, ContactStatus::Slide, -1.2e6, 1.0);
         for law in [return_mapping as fn(&_, &_, _, _) -> _, conventional] {
             for h in [&stick, &slide] {
-                for (gn, dgs) in [(-1e-5, 1e-4), (-1e-5, 2e-3), (-1e-5, -2e-3), (-3e-6, 5e-4), (2e-6, 1e-4)] {
+                for (gn, dgs) in [
+                    (-1e-5, 1e-4),
+                    (-1e-5, 2e-3),
+                    (-1e-5, -2e-3),
+                    (-3e-6, 5e-4),
+                    (2e-6, 1e-4),
+                ] {
                     check_tangent(law, h, gn, dgs);
                 }
             }

@@ -22,6 +22,11 @@ pub mod narrow;
 pub mod set;
 
 pub use broad::sweep_and_prune;
-pub use friction::{commit, conventional, evaluate, return_mapping, ContactStatus, FrictionParams, LawResponse, ShearHistory};
+pub use friction::{
+    commit, conventional, evaluate, return_mapping, ContactStatus, FrictionParams, LawResponse,
+    ShearHistory,
+};
 pub use generate::brick_wall;
-pub use narrow::{corner_flags, vertex_edge_contacts, vertex_edge_contacts_with, NarrowParams, VertexEdge};
+pub use narrow::{
+    corner_flags, vertex_edge_contacts, vertex_edge_contacts_with, NarrowParams, VertexEdge,
+};

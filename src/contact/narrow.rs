@@ -79,14 +79,24 @@ pub struct NarrowParams {
 impl NarrowParams {
     /// Defaults: `max_penetration = end_tolerance = search`, `fit_angle = 20°`.
     pub fn new(search: f64) -> Self {
-        NarrowParams { search, max_penetration: search, end_tolerance: search, fit_angle: 20f64.to_radians() }
+        NarrowParams {
+            search,
+            max_penetration: search,
+            end_tolerance: search,
+            fit_angle: 20f64.to_radians(),
+        }
     }
 }
 
 /// Vertex–edge contacts of `A`'s vertices on `B`'s segments, with the default
 /// tolerances of [`NarrowParams::new`]. `corner_a[i]` says whether vertex `i` of
 /// `A` is a polygon corner (a missing entry counts as a corner).
-pub fn vertex_edge_contacts(a: &[Vec2], b: &[Vec2], search: f64, corner_a: &[bool]) -> Vec<VertexEdge> {
+pub fn vertex_edge_contacts(
+    a: &[Vec2],
+    b: &[Vec2],
+    search: f64,
+    corner_a: &[bool],
+) -> Vec<VertexEdge> {
     vertex_edge_contacts_with(a, b, corner_a, &NarrowParams::new(search))
 }
 
@@ -129,13 +139,21 @@ struct Segments {
 impl Segments {
     fn new(b: &[Vec2]) -> Self {
         let n = b.len();
-        let mut s = Segments { p0: Vec::with_capacity(n), t: Vec::with_capacity(n), len: Vec::with_capacity(n) };
+        let mut s = Segments {
+            p0: Vec::with_capacity(n),
+            t: Vec::with_capacity(n),
+            len: Vec::with_capacity(n),
+        };
         for j in 0..n {
             let e = sub(b[(j + 1) % n], b[j]);
             let l = norm(e);
             s.p0.push(b[j]);
             s.len.push(l);
-            s.t.push(if l > 0.0 { scale(e, 1.0 / l) } else { [0.0, 0.0] });
+            s.t.push(if l > 0.0 {
+                scale(e, 1.0 / l)
+            } else {
+                [0.0, 0.0]
+            });
         }
         s
     }
@@ -160,9 +178,17 @@ impl Grid {
         let diag = bbox.diagonal().max(f64::MIN_POSITIVE);
         let cell = mean.max(reach).max(diag * 1e-6).max(f64::MIN_POSITIVE);
         let origin = [bbox.min[0] - reach, bbox.min[1] - reach];
-        let nx = (((bbox.max[0] - bbox.min[0] + 2.0 * reach) / cell).floor() as u64).saturating_add(1);
-        let ny = (((bbox.max[1] - bbox.min[1] + 2.0 * reach) / cell).floor() as u64).saturating_add(1);
-        let mut g = Grid { origin, cell, nx, ny, entries: Vec::with_capacity(4 * n) };
+        let nx =
+            (((bbox.max[0] - bbox.min[0] + 2.0 * reach) / cell).floor() as u64).saturating_add(1);
+        let ny =
+            (((bbox.max[1] - bbox.min[1] + 2.0 * reach) / cell).floor() as u64).saturating_add(1);
+        let mut g = Grid {
+            origin,
+            cell,
+            nx,
+            ny,
+            entries: Vec::with_capacity(4 * n),
+        };
         for j in 0..n {
             let sb = Aabb::of_points(&[b[j], b[(j + 1) % n]]).inflate(reach);
             let (x0, y0) = g.coords(sb.min);
@@ -178,7 +204,10 @@ impl Grid {
     }
     fn coords(&self, p: Vec2) -> (u64, u64) {
         let f = |v: f64, o: f64, n: u64| (((v - o) / self.cell).floor().max(0.0) as u64).min(n - 1);
-        (f(p[0], self.origin[0], self.nx), f(p[1], self.origin[1], self.ny))
+        (
+            f(p[0], self.origin[0], self.nx),
+            f(p[1], self.origin[1], self.ny),
+        )
     }
     fn query(&self, p: Vec2) -> &[(u64, u32)] {
         let (ix, iy) = self.coords(p);
@@ -201,11 +230,22 @@ struct Candidate {
 }
 
 /// As [`vertex_edge_contacts`], with explicit tolerances.
-pub fn vertex_edge_contacts_with(a: &[Vec2], b: &[Vec2], corner_a: &[bool], prm: &NarrowParams) -> Vec<VertexEdge> {
+pub fn vertex_edge_contacts_with(
+    a: &[Vec2],
+    b: &[Vec2],
+    corner_a: &[bool],
+    prm: &NarrowParams,
+) -> Vec<VertexEdge> {
     detect(a, b, corner_a, prm, b.len() > GRID_THRESHOLD)
 }
 
-fn detect(a: &[Vec2], b: &[Vec2], corner_a: &[bool], prm: &NarrowParams, use_grid: bool) -> Vec<VertexEdge> {
+fn detect(
+    a: &[Vec2],
+    b: &[Vec2],
+    corner_a: &[bool],
+    prm: &NarrowParams,
+    use_grid: bool,
+) -> Vec<VertexEdge> {
     let (na, nb) = (a.len(), b.len());
     let mut out = Vec::new();
     if na < 3 || nb < 3 {
@@ -223,7 +263,11 @@ fn detect(a: &[Vec2], b: &[Vec2], corner_a: &[bool], prm: &NarrowParams, use_gri
     let scale_b = bbox_b.diagonal();
     let on_tol = 1e-12 * scale_b;
     let grid = use_grid.then(|| Grid::new(b, &seg, &bbox_b, reach));
-    let all: Vec<(u64, u32)> = if grid.is_none() { (0..nb as u32).map(|j| (0, j)).collect() } else { Vec::new() };
+    let all: Vec<(u64, u32)> = if grid.is_none() {
+        (0..nb as u32).map(|j| (0, j)).collect()
+    } else {
+        Vec::new()
+    };
 
     let mut cands: Vec<Candidate> = Vec::new();
     for i in 0..na {
@@ -321,10 +365,22 @@ fn is_inside(seg: &Segments, b: &[Vec2], p: Vec2, nearest: (f64, usize, f64)) ->
     let l = seg.len[j];
     let (v, m) = if sc <= 0.0 {
         let jp = (j + nb - 1) % nb;
-        (b[j], [seg.normal(jp)[0] + seg.normal(j)[0], seg.normal(jp)[1] + seg.normal(j)[1]])
+        (
+            b[j],
+            [
+                seg.normal(jp)[0] + seg.normal(j)[0],
+                seg.normal(jp)[1] + seg.normal(j)[1],
+            ],
+        )
     } else if sc >= l {
         let jn = (j + 1) % nb;
-        (b[jn], [seg.normal(j)[0] + seg.normal(jn)[0], seg.normal(j)[1] + seg.normal(jn)[1]])
+        (
+            b[jn],
+            [
+                seg.normal(j)[0] + seg.normal(jn)[0],
+                seg.normal(j)[1] + seg.normal(jn)[1],
+            ],
+        )
     } else {
         (b[j], seg.normal(j))
     };
@@ -402,7 +458,12 @@ mod tests {
         // A square rotated 45°, its bottom corner 3e-5 into B's top face.
         let pen = 3e-5;
         let r = std::f64::consts::FRAC_1_SQRT_2;
-        let a = vec![[1.0, 1.0 - pen], [1.0 + r, 1.0 - pen + r], [1.0, 1.0 - pen + 2.0 * r], [1.0 - r, 1.0 - pen + r]];
+        let a = vec![
+            [1.0, 1.0 - pen],
+            [1.0 + r, 1.0 - pen + r],
+            [1.0, 1.0 - pen + 2.0 * r],
+            [1.0 - r, 1.0 - pen + r],
+        ];
         let b = rect(0.0, 0.0, 2.0, 1.0);
         let c = vertex_edge_contacts(&a, &b, 1e-3, &[true; 4]);
         assert_eq!(c.len(), 1);
@@ -440,11 +501,17 @@ mod tests {
         // top-left corner is on the top edge, never on B's left side.
         let a = rect(0.0, 1.0 + 1e-6, 1.0, 2.0);
         let c = vertex_edge_contacts(&a, &b, 1e-3, &[true; 4]);
-        assert_eq!(c.iter().map(|v| (v.vertex, v.segment)).collect::<Vec<_>>(), vec![(0, 2), (1, 2)]);
+        assert_eq!(
+            c.iter().map(|v| (v.vertex, v.segment)).collect::<Vec<_>>(),
+            vec![(0, 2), (1, 2)]
+        );
         // Side by side, same course: A's left corners on B's right side.
         let a = rect(1.0 + 1e-6, 0.0, 2.0, 1.0);
         let c = vertex_edge_contacts(&a, &b, 1e-3, &[true; 4]);
-        assert_eq!(c.iter().map(|v| (v.vertex, v.segment)).collect::<Vec<_>>(), vec![(0, 1), (3, 1)]);
+        assert_eq!(
+            c.iter().map(|v| (v.vertex, v.segment)).collect::<Vec<_>>(),
+            vec![(0, 1), (3, 1)]
+        );
         // A rotated CCW by 10° about its corner: the normal opposing the bisector best is the top.
         let (sn, cs) = 10f64.to_radians().sin_cos();
         let p0 = [1.0 + 1e-5, 1.0 + 1e-5];
@@ -464,16 +531,27 @@ mod tests {
         assert!(vertex_edge_contacts(&a, &b, 1e-3, &[true; 4]).is_empty());
         // A corner 5e-4 beyond the end, with an end tolerance of 1e-4.
         let a = rect(1.0 + 5e-4, 1.0 + 3e-4, 2.0, 2.0);
-        let prm = NarrowParams { end_tolerance: 1e-4, ..NarrowParams::new(1e-3) };
+        let prm = NarrowParams {
+            end_tolerance: 1e-4,
+            ..NarrowParams::new(1e-3)
+        };
         assert!(vertex_edge_contacts_with(&a, &b, &[true; 4], &prm).is_empty());
         // A refined (non-corner) vertex 1e-5 beyond the end gets no end tolerance.
         let y = 1.0 + 1e-4;
         let a = vec![[0.5, y], [1.0 + 1e-5, y], [2.0, y], [2.0, 2.0], [0.5, 2.0]];
         let c = vertex_edge_contacts(&a, &b, 1e-3, &[true, false, true, true, true]);
-        assert_eq!(c.iter().map(|v| (v.vertex, v.segment)).collect::<Vec<_>>(), vec![(0, 2)]);
+        assert_eq!(
+            c.iter().map(|v| (v.vertex, v.segment)).collect::<Vec<_>>(),
+            vec![(0, 2)]
+        );
         // Flagged as a corner, it is in contact with the top edge at its end.
         let c = vertex_edge_contacts(&a, &b, 1e-3, &[true; 5]);
-        assert_eq!(c.iter().map(|v| (v.vertex, v.segment, v.xi)).collect::<Vec<_>>(), vec![(0, 2, 0.5), (1, 2, 0.0)]);
+        assert_eq!(
+            c.iter()
+                .map(|v| (v.vertex, v.segment, v.xi))
+                .collect::<Vec<_>>(),
+            vec![(0, 2, 0.5), (1, 2, 0.0)]
+        );
     }
 
     #[test]
@@ -489,7 +567,14 @@ mod tests {
 
     /// L-shaped B, CCW; reflex corner at (1, 1); notch x > 1, y > 1.
     fn l_shape() -> Vec<Vec2> {
-        vec![[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]]
+        vec![
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ]
     }
 
     #[test]
@@ -516,7 +601,9 @@ mod tests {
         let mut inside = false;
         for i in 0..n {
             let (u, v) = (poly[i], poly[(i + 1) % n]);
-            if (u[1] > p[1]) != (v[1] > p[1]) && p[0] < u[0] + (p[1] - u[1]) / (v[1] - u[1]) * (v[0] - u[0]) {
+            if (u[1] > p[1]) != (v[1] > p[1])
+                && p[0] < u[0] + (p[1] - u[1]) / (v[1] - u[1]) * (v[0] - u[0])
+            {
                 inside = !inside;
             }
         }
@@ -529,7 +616,9 @@ mod tests {
         let seg = Segments::new(&b);
         let mut state = 12345u64;
         let mut rnd = || {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (state >> 11) as f64 / (1u64 << 53) as f64
         };
         for _ in 0..5000 {
@@ -543,7 +632,11 @@ mod tests {
                     nearest = (d, j, sc);
                 }
             }
-            assert_eq!(is_inside(&seg, &b, p, nearest), crossing_inside(&b, p), "at {p:?}");
+            assert_eq!(
+                is_inside(&seg, &b, p, nearest),
+                crossing_inside(&b, p),
+                "at {p:?}"
+            );
         }
     }
 
@@ -562,12 +655,25 @@ mod tests {
             assert_relative_eq!(v.gap, 1e-5, epsilon = 1e-12);
         }
         // Other poses, including penetration, rotation and corners near B's corners.
-        for (k, (dx, dy, th)) in [(-3.02, 0.0, 0.0), (5.96, -2e-4, 0.05), (2.0, 3e-4, -0.1), (-3.0, -1.0 - 1e-4, 0.0)]
-            .into_iter()
-            .enumerate()
+        for (k, (dx, dy, th)) in [
+            (-3.02, 0.0, 0.0),
+            (5.96, -2e-4, 0.05),
+            (2.0, 3e-4, -0.1),
+            (-3.0, -1.0 - 1e-4, 0.0),
+        ]
+        .into_iter()
+        .enumerate()
         {
             let (sn, cs) = f64::sin_cos(th);
-            let moved: Vec<Vec2> = a.iter().map(|p| [3.0 + dx + cs * (p[0] - 3.0) - sn * (p[1] - 1.0), 1.0 + dy + sn * (p[0] - 3.0) + cs * (p[1] - 1.0)]).collect();
+            let moved: Vec<Vec2> = a
+                .iter()
+                .map(|p| {
+                    [
+                        3.0 + dx + cs * (p[0] - 3.0) - sn * (p[1] - 1.0),
+                        1.0 + dy + sn * (p[0] - 3.0) + cs * (p[1] - 1.0),
+                    ]
+                })
+                .collect();
             let g = detect(&moved, &b, &ca, &prm, true);
             assert_eq!(g, detect(&moved, &b, &ca, &prm, false), "pose {k}");
             assert_eq!(g, detect(&moved, &b, &ca, &prm, true));

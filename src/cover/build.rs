@@ -28,7 +28,7 @@
 //! `EDGE_TOL` to a previous split point or to the edge's end are merged with it. Each
 //! vertex becomes a [`MaterialPoint`] in the element of the block nearest to it (distance
 //! 0 when inside or on its boundary), and each segment gets the element nearest to its
-//! midpoint.
+//! midpoint; because of the merging, a segment lies in its element up to `EDGE_TOL`.
 
 use super::{
     barycentric, BlockBoundary, BoundaryVertex, Discretisation, ManifoldElement, MaterialPoint,

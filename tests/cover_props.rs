@@ -205,9 +205,9 @@ fn check_all(
     }
     for (e, el) in d.elements.iter().enumerate() {
         let nodes = d.mesh.triangle(el.triangle);
-        for k in 0..3 {
+        for (k, &node) in nodes.iter().enumerate() {
             let c = &d.covers[el.covers[k]];
-            if c.block != el.block || c.node != nodes[k] {
+            if c.block != el.block || c.node != node {
                 return Err(format!(
                     "element {e}: cover {k} belongs to block {} node {}",
                     c.block, c.node
@@ -218,7 +218,7 @@ fn check_all(
             return Err(format!("element {e}: nodes differ from its triangle"));
         }
         let a = polygon_area(&el.polygon);
-        if !(a > 0.0) || el.polygon.iter().flatten().any(|v| !v.is_finite()) {
+        if a.is_nan() || a <= 0.0 || el.polygon.iter().flatten().any(|v| !v.is_finite()) {
             return Err(format!("element {e}: bad polygon area {a}"));
         }
         for v in &el.polygon {

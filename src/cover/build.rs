@@ -485,7 +485,7 @@ fn edge_coverage(
         let on = |p: Vec2| {
             let dist = ((p[0] - a[0]) * ab[1] - (p[1] - a[1]) * ab[0]).abs() / len;
             let s = param(p);
-            dist <= dtol && s >= -EDGE_TOL && s <= 1.0 + EDGE_TOL
+            dist <= dtol && (-EDGE_TOL..=1.0 + EDGE_TOL).contains(&s)
         };
         let start = intervals.len();
         for i in 0..m {

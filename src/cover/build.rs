@@ -28,7 +28,7 @@
 //! `EDGE_TOL` to a previous split point or to the edge's end are merged with it. Each
 //! vertex becomes a [`MaterialPoint`] in the element of the block nearest to it (distance
 //! 0 when inside or on its boundary), and each segment gets the element nearest to its
-//! midpoint.
+//! midpoint; because of the merging, a segment lies in its element up to `EDGE_TOL`.
 
 use super::{
     barycentric, BlockBoundary, BoundaryVertex, Discretisation, ManifoldElement, MaterialPoint,
@@ -485,7 +485,7 @@ fn edge_coverage(
         let on = |p: Vec2| {
             let dist = ((p[0] - a[0]) * ab[1] - (p[1] - a[1]) * ab[0]).abs() / len;
             let s = param(p);
-            dist <= dtol && s >= -EDGE_TOL && s <= 1.0 + EDGE_TOL
+            dist <= dtol && (-EDGE_TOL..=1.0 + EDGE_TOL).contains(&s)
         };
         let start = intervals.len();
         for i in 0..m {

@@ -17,6 +17,9 @@
 
 use super::build::distance_to_polygon;
 use super::{barycentric, Discretisation, MaterialPoint, COVER_DOFS};
+
+// Constant cover functions: (u_x, u_y) at `dof`, `dof + 1`.
+const _: () = assert!(COVER_DOFS == 2);
 use crate::geometry::{dist, lerp, Aabb, Vec2};
 
 /// Relative (to h) tolerance for accepting a point near an element.
@@ -273,11 +276,62 @@ impl Discretisation {
         let mut out = [0.0, 0.0];
         for k in 0..3 {
             if let Some(dof) = self.covers[el.covers[k]].dof {
-                debug_assert!(COVER_DOFS >= 2);
                 out[0] += p.weights[k] * u[dof];
                 out[1] += p.weights[k] * u[dof + 1];
             }
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::cover::discretise;
+
+    #[test]
+    fn locate_follows_moved_elements_and_index_agrees() {
+        let l = vec![
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
+        let mut d = discretise(&[(l, false)], 0.3).unwrap();
+        // Rigid motion of every element: rotate by 0.3 rad and translate.
+        let (c, s) = (0.3f64.cos(), 0.3f64.sin());
+        let mv = |p: [f64; 2]| [c * p[0] - s * p[1] + 5.0, s * p[0] + c * p[1] - 1.0];
+        for el in &mut d.elements {
+            el.nodes = el.nodes.map(mv);
+            el.polygon.iter_mut().for_each(|p| *p = mv(*p));
+        }
+        let idx = super::ElementIndex::new(&d, 0);
+        for x0 in [
+            [0.5, 0.5],
+            [1.5, 0.2],
+            [0.2, 1.9],
+            [1.0, 1.0],
+            [2.0, 0.0],
+            [0.0, 1.3],
+        ] {
+            let x = mv(x0);
+            let a = d.locate(0, x).expect("inside or on boundary");
+            let b = idx.locate(&d, x).expect("index finds it too");
+            for mp in [a, b] {
+                let n = d.elements[mp.element].nodes;
+                let y = [0, 1].map(|i| (0..3).map(|k| mp.weights[k] * n[k][i]).sum::<f64>());
+                assert!(crate::geometry::dist(x, y) < 1e-12);
+            }
+        }
+        // Outside the (moved) L: the notch and far away.
+        assert!(d.locate(0, mv([1.5, 1.5])).is_none());
+        assert!(idx.locate(&d, mv([1.5, 1.5])).is_none());
+        assert!(d.locate(0, [0.5, 0.5]).is_none());
+        // Boundary pieces of the moved bottom edge cover it.
+        let p = d.boundary_pieces(0, mv([0.0, 0.0]), mv([2.0, 0.0]));
+        let len: f64 = p.iter().map(|x| x.2).sum();
+        assert!((len - 2.0).abs() < 1e-12);
+        assert!(p.len() >= 7); // split at every mesh line crossed (h = 0.3)
     }
 }

@@ -15,8 +15,16 @@ fn direct_shear_return_mapping_stays_at_the_strength() {
         let h = direct_shear(sigma_n, phi, "return-mapping").unwrap();
         for (step, (tau, sn, its, _)) in h.iter().enumerate() {
             eprintln!("return mapping σn={sigma_n} φ={phi} step {}: τ = {tau:.6e} ({:+.4}%), σn = {sn:.6e}, {its} iterations", step + 1, (tau / strength - 1.0) * 100.0);
-            assert!((sn - sigma_n).abs() < 1e-6 * sigma_n, "step {}: σn {sn}", step + 1);
-            assert!(((tau - strength) / strength).abs() < 1e-3, "step {}: τ = {tau}, strength {strength}", step + 1);
+            assert!(
+                (sn - sigma_n).abs() < 1e-6 * sigma_n,
+                "step {}: σn {sn}",
+                step + 1
+            );
+            assert!(
+                ((tau - strength) / strength).abs() < 1e-3,
+                "step {}: τ = {tau}, strength {strength}",
+                step + 1
+            );
         }
     }
 }
@@ -39,7 +47,11 @@ fn direct_shear_conventional_overshoots_the_strength() {
 #[test]
 fn block_slides_down_incline_as_closed_form() {
     let (slip, exact, its) = incline(30.0, 20.0, 1e-3, 1000).unwrap();
-    eprintln!("incline: slip {slip:.6} vs {exact:.6} ({:+.3}%), median iterations {}", (slip / exact - 1.0) * 100.0, median(&its));
+    eprintln!(
+        "incline: slip {slip:.6} vs {exact:.6} ({:+.3}%), median iterations {}",
+        (slip / exact - 1.0) * 100.0,
+        median(&its)
+    );
     assert!(((slip - exact) / exact).abs() < 0.02, "{slip} vs {exact}");
     assert!(median(&its) <= 4);
 }
@@ -48,7 +60,10 @@ fn block_slides_down_incline_as_closed_form() {
 #[test]
 fn block_holds_on_incline_when_friction_exceeds_slope() {
     let (slip, _, its) = incline(30.0, 35.0, 1e-3, 1000).unwrap();
-    eprintln!("incline φ > θ: slip {slip:.3e} m, median iterations {}", median(&its));
+    eprintln!(
+        "incline φ > θ: slip {slip:.3e} m, median iterations {}",
+        median(&its)
+    );
     assert!(slip.abs() < 1e-3, "{slip}");
 }
 
@@ -66,7 +81,11 @@ fn check_settled(label: &str, blocks: &[(f64, f64, f64, f64)]) {
     assert!(rel < 1e-6, "{label}: {} vs {}", s.base_force, s.weight);
     assert!(s.max_velocity < 1e-6, "{label}: {}", s.max_velocity);
     // no single contact carries more than the whole weight: penetration ≤ W / p_N
-    assert!(s.max_penetration <= s.weight / 1.0e10, "{label}: {}", s.max_penetration);
+    assert!(
+        s.max_penetration <= s.weight / 1.0e10,
+        "{label}: {}",
+        s.max_penetration
+    );
     assert!(median(&s.iterations) <= 4, "{label}");
 }
 
@@ -86,7 +105,11 @@ fn masonry_wall_settles_to_rest() {
 /// successive residuals is below 1e-3.
 #[test]
 fn newton_converges_fast_when_contacts_slide() {
-    for (step, (_, _, _, r)) in direct_shear(1.0e6, 30.0, "return-mapping").unwrap().iter().enumerate() {
+    for (step, (_, _, _, r)) in direct_shear(1.0e6, 30.0, "return-mapping")
+        .unwrap()
+        .iter()
+        .enumerate()
+    {
         eprintln!("step {}: residuals {r:?}", step + 1);
         let k = r.len() - 1;
         assert!(r[k] < 1e-8 * r[0], "{r:?}");

@@ -136,29 +136,45 @@ impl ContactSet {
                     .collect()
             })
             .collect();
-        let corners: Vec<Vec<bool>> = disc.boundaries.iter().map(|b| b.vertices.iter().map(|v| v.corner).collect()).collect();
-        let boxes: Vec<Aabb> = polys.iter().map(|p| Aabb::of_points(p).inflate(search)).collect();
+        let corners: Vec<Vec<bool>> = disc
+            .boundaries
+            .iter()
+            .map(|b| b.vertices.iter().map(|v| v.corner).collect())
+            .collect();
+        let boxes: Vec<Aabb> = polys
+            .iter()
+            .map(|p| Aabb::of_points(p).inflate(search))
+            .collect();
         let mut pairs = sweep_and_prune(&boxes);
         pairs.sort_unstable();
         for (a, b) in pairs {
             if model.blocks[a].fixed && model.blocks[b].fixed {
                 continue;
             }
-            let Some(iface) = model.interface_for(a, b) else { continue };
+            let Some(iface) = model.interface_for(a, b) else {
+                continue;
+            };
             for (pa, pb) in [(a, b), (b, a)] {
                 for ve in vertex_edge_contacts(&polys[pa], &polys[pb], search, &corners[pa]) {
                     let key = (pa, ve.vertex, pb);
                     let vert = &disc.boundaries[pa].vertices[ve.vertex];
                     let eb = disc.boundaries[pb].segment_elements[ve.segment];
                     let nb = polys[pb].len();
-                    let q = crate::geometry::lerp(polys[pb][ve.segment], polys[pb][(ve.segment + 1) % nb], ve.xi);
+                    let q = crate::geometry::lerp(
+                        polys[pb][ve.segment],
+                        polys[pb][(ve.segment + 1) % nb],
+                        ve.xi,
+                    );
                     let wb = barycentric(&disc.elements[eb].nodes, q);
                     let wa = vert.at.weights;
                     let ea = &disc.elements[vert.at.element];
                     let mut dofs = [NO_DOF; 12];
                     let (mut bn, mut bs) = ([0.0; 12], [0.0; 12]);
                     for k in 0..3 {
-                        for (side, (el, w, sign)) in [(ea, wa, 1.0), (&disc.elements[eb], wb, -1.0)].into_iter().enumerate() {
+                        for (side, (el, w, sign)) in [(ea, wa, 1.0), (&disc.elements[eb], wb, -1.0)]
+                            .into_iter()
+                            .enumerate()
+                        {
                             if let Some(g) = disc.covers[el.covers[k]].dof {
                                 let i = 6 * side + 2 * k;
                                 dofs[i] = g;
@@ -173,7 +189,9 @@ impl ContactSet {
                     // tributary length of the vertex (for cohesion)
                     let np = polys[pa].len();
                     let p = polys[pa][ve.vertex];
-                    let trib = 0.5 * (dist(p, polys[pa][(ve.vertex + 1) % np]) + dist(p, polys[pa][(ve.vertex + np - 1) % np]));
+                    let trib = 0.5
+                        * (dist(p, polys[pa][(ve.vertex + 1) % np])
+                            + dist(p, polys[pa][(ve.vertex + np - 1) % np]));
                     let params = FrictionParams {
                         pn: iface.normal_penalty,
                         ps: iface.shear_penalty,
@@ -181,7 +199,8 @@ impl ContactSet {
                         cohesion: iface.cohesion * trib,
                     };
                     let history = self.committed.get(&key).copied().unwrap_or_default();
-                    let response = friction::evaluate(model.analysis.friction, &params, &history, ve.gap, 0.0);
+                    let response =
+                        friction::evaluate(model.analysis.friction, &params, &history, ve.gap, 0.0);
                     self.contacts.push(Contact {
                         key,
                         segment: ve.segment,
@@ -221,7 +240,8 @@ impl ContactSet {
         let alg = self.algorithm.unwrap_or(FrictionAlgorithm::ReturnMapping);
         let mut symmetric = true;
         let mut changed = self.last_status.len() != self.contacts.len();
-        self.last_status.resize(self.contacts.len(), ContactStatus::Open);
+        self.last_status
+            .resize(self.contacts.len(), ContactStatus::Open);
         for (ci, c) in self.contacts.iter_mut().enumerate() {
             let (gn, gs) = c.gaps(du);
             let resp = friction::evaluate(alg, &c.params, &c.history, gn, gs);
@@ -310,7 +330,10 @@ impl ContactSet {
                 ContactSnapshot {
                     position: c.position,
                     normal: c.normal,
-                    force_on_first: [-(r.tn * c.normal[0] + r.ts * c.tangent[0]), -(r.tn * c.normal[1] + r.ts * c.tangent[1])],
+                    force_on_first: [
+                        -(r.tn * c.normal[0] + r.ts * c.tangent[0]),
+                        -(r.tn * c.normal[1] + r.ts * c.tangent[1]),
+                    ],
                     normal_force: r.tn.abs(),
                     shear_force: r.ts,
                     state: status_code(r.status),

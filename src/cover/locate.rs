@@ -3,7 +3,8 @@
 //! * [`Discretisation::locate`]: the element of a block containing a point, on the
 //!   *current* element polygons (they move with the material), boundary-tolerant: the
 //!   element whose closed polygon is nearest to the point is chosen, and accepted if that
-//!   distance is at most `LOCATE_TOL · h` (`1e-6 h`), so points on the block boundary
+//!   distance is at most `LOCATE_TOL · h` (`2e-5 h`: twice the width of the slivers that
+//!   discretisation drops), so points on the block boundary
 //!   (or within round-off of it) are found.
 //! * [`Discretisation::boundary_pieces`]: splits a segment a→b lying on (or inside) a
 //!   block into pieces each inside one element, returning each piece's end points as
@@ -23,7 +24,7 @@ const _: () = assert!(COVER_DOFS == 2);
 use crate::geometry::{dist, lerp, Aabb, Vec2};
 
 /// Relative (to h) tolerance for accepting a point near an element.
-pub const LOCATE_TOL: f64 = 1e-6;
+pub const LOCATE_TOL: f64 = 2.0 * super::build::MIN_PIECE_WIDTH;
 
 fn poly_box(p: &[Vec2]) -> Aabb {
     Aabb::of_points(p)

@@ -18,7 +18,7 @@ mod build;
 mod locate;
 pub mod mesh;
 
-pub use build::{discretise, discretise_on_mesh, DiscretiseError, MAX_MESH_NODES};
+pub use build::{discretise, discretise_on_mesh, DiscretiseError, MAX_MESH_NODES, MIN_PIECE_WIDTH};
 pub use locate::{ElementIndex, LOCATE_TOL};
 pub use mesh::MathMesh;
 

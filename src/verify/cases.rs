@@ -34,7 +34,10 @@ pub fn median(v: &[usize]) -> usize {
 
 /// A TOML array of points.
 pub fn poly(pts: &[[f64; 2]]) -> String {
-    let items: Vec<String> = pts.iter().map(|p| format!("[{:.17e}, {:.17e}]", p[0], p[1])).collect();
+    let items: Vec<String> = pts
+        .iter()
+        .map(|p| format!("[{:.17e}, {:.17e}]", p[0], p[1]))
+        .collect();
     format!("[{}]", items.join(", "))
 }
 
@@ -46,7 +49,14 @@ pub fn point(p: [f64; 2]) -> String {
 /// Rotate by `angle_deg` about the origin, then translate.
 pub fn place(pts: &[[f64; 2]], angle_deg: f64, offset: [f64; 2]) -> Vec<[f64; 2]> {
     let (s, c) = angle_deg.to_radians().sin_cos();
-    pts.iter().map(|p| [offset[0] + c * p[0] - s * p[1], offset[1] + s * p[0] + c * p[1]]).collect()
+    pts.iter()
+        .map(|p| {
+            [
+                offset[0] + c * p[0] - s * p[1],
+                offset[1] + s * p[0] + c * p[1],
+            ]
+        })
+        .collect()
 }
 
 /// Observed convergence orders from errors at successive halvings of h.
@@ -73,14 +83,25 @@ pub struct PatchErrors {
 pub fn patch(angle: f64, h: f64, offset: [f64; 2]) -> Result<PatchErrors, String> {
     let (e, nu) = (1.0e9, 0.25);
     let sigma = [2.0e6, -1.0e6, 0.5e6];
-    let pts = place(&[[0.0, 0.0], [1.0, 0.0], [1.0, 0.6], [0.0, 0.6]], angle, offset);
+    let pts = place(
+        &[[0.0, 0.0], [1.0, 0.0], [1.0, 0.6], [0.0, 0.6]],
+        angle,
+        offset,
+    );
     let mut loads = String::new();
     for i in 0..4 {
         let (a, b) = (pts[i], pts[(i + 1) % 4]);
         let len = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
         let n = [(b[1] - a[1]) / len, -(b[0] - a[0]) / len];
-        let t = [sigma[0] * n[0] + sigma[2] * n[1], sigma[2] * n[0] + sigma[1] * n[1]];
-        loads += &format!("[[load]]\nblock = \"b\"\nedge = {}\ntraction = {}\n", poly(&[a, b]), point(t));
+        let t = [
+            sigma[0] * n[0] + sigma[2] * n[1],
+            sigma[2] * n[0] + sigma[1] * n[1],
+        ];
+        loads += &format!(
+            "[[load]]\nblock = \"b\"\nedge = {}\ntraction = {}\n",
+            poly(&[a, b]),
+            point(t)
+        );
     }
     let (pa, pb) = (pts[0], pts[1]);
     // the second point fixes the rotation: constrain its displacement across a→b
@@ -103,19 +124,47 @@ pub fn patch(angle: f64, h: f64, offset: [f64; 2]) -> Result<PatchErrors, String
         .elements
         .iter()
         .enumerate()
-        .flat_map(|(ei, el)| el.polygon.iter().map(move |x| (*x, crate::cover::MaterialPoint { element: ei, weights: el.weights(*x) })))
+        .flat_map(|(ei, el)| {
+            el.polygon.iter().map(move |x| {
+                (
+                    *x,
+                    crate::cover::MaterialPoint {
+                        element: ei,
+                        weights: el.weights(*x),
+                    },
+                )
+            })
+        })
         .collect();
     run_to_end(&mut sim)?;
-    let eps = [(sigma[0] - nu * sigma[1]) / e, (sigma[1] - nu * sigma[0]) / e, 2.0 * (1.0 + nu) * sigma[2] / e];
+    let eps = [
+        (sigma[0] - nu * sigma[1]) / e,
+        (sigma[1] - nu * sigma[0]) / e,
+        2.0 * (1.0 + nu) * sigma[2] / e,
+    ];
     let smax = sigma.iter().fold(0.0f64, |m, s| m.max(s.abs()));
-    let stress = sim.stress.iter().flat_map(|s| (0..3).map(move |k| (s[k] - sigma[k]).abs() / smax)).fold(0.0, f64::max);
+    let stress = sim
+        .stress
+        .iter()
+        .flat_map(|s| (0..3).map(move |k| (s[k] - sigma[k]).abs() / smax))
+        .fold(0.0, f64::max);
     let lin = |x: [f64; 2], om: f64| -> [f64; 2] {
         let d = [x[0] - pa[0], x[1] - pa[1]];
-        [eps[0] * d[0] + 0.5 * eps[2] * d[1] - om * d[1], 0.5 * eps[2] * d[0] + eps[1] * d[1] + om * d[0]]
+        [
+            eps[0] * d[0] + 0.5 * eps[2] * d[1] - om * d[1],
+            0.5 * eps[2] * d[0] + eps[1] * d[1] + om * d[0],
+        ]
     };
     // rotation ω such that the constrained component of u(b) vanishes
-    let om = if across_x { lin(pb, 0.0)[0] / (pb[1] - pa[1]) } else { -lin(pb, 0.0)[1] / (pb[0] - pa[0]) };
-    let umax = pts.iter().map(|p| lin(*p, om)).fold(0.0f64, |m, u| m.max(u[0].abs()).max(u[1].abs()));
+    let om = if across_x {
+        lin(pb, 0.0)[0] / (pb[1] - pa[1])
+    } else {
+        -lin(pb, 0.0)[1] / (pb[0] - pa[0])
+    };
+    let umax = pts
+        .iter()
+        .map(|p| lin(*p, om))
+        .fold(0.0f64, |m, u| m.max(u[0].abs()).max(u[1].abs()));
     let displacement = probes
         .iter()
         .map(|(x0, mp)| {
@@ -124,15 +173,29 @@ pub fn patch(angle: f64, h: f64, offset: [f64; 2]) -> Result<PatchErrors, String
             (u[0] - w[0]).abs().max((u[1] - w[1]).abs()) / umax
         })
         .fold(0.0, f64::max);
-    Ok(PatchErrors { stress, displacement })
+    Ok(PatchErrors {
+        stress,
+        displacement,
+    })
 }
 
 /// Rollers by edge penalty on the left and bottom edges, uniform tension σ on the right
 /// edge (ν = 0). Returns (max relative stress error, relative error of the right edge's
 /// displacement against σ w/E shifted by the stated penalty stretch +σ/p, p = factor·E/h).
 pub fn roller_patch(h: f64, factor: f64) -> Result<(f64, f64), String> {
+    roller_patch_sized(h, factor, 1.0, 0.5)
+}
+
+/// Cut cells: the roller patch with its right and top edges `delta`·h beyond mesh lines
+/// (the mesh starts h/2 before the block's lower-left corner), so that sliver elements
+/// of area ≈ delta·h² and covers with tiny supports appear along both edges.
+pub fn cut_cell_patch(h: f64, delta: f64) -> Result<(f64, f64), String> {
+    roller_patch_sized(h, 1e6, (10.5 + delta) * h, (5.5 + delta) * h)
+}
+
+fn roller_patch_sized(h: f64, factor: f64, w: f64, ht: f64) -> Result<(f64, f64), String> {
     let (e, sx) = (1.0e9, 1.0e6);
-    let (x0, y0, w, ht) = (0.031, 0.017, 1.0, 0.5);
+    let (x0, y0) = (0.031, 0.017);
     let (x1, y1) = (x0 + w, y0 + ht);
     let text = format!(
         "[analysis]\nmode = \"static\"\ndt = 1000.0\nsteps = 1\nconstraint_penalty = {factor}\n[cover]\nsize = {h}\n{}\
@@ -146,7 +209,11 @@ pub fn roller_patch(h: f64, factor: f64) -> Result<(f64, f64), String> {
     );
     let mut sim = simulate(&text)?;
     run_to_end(&mut sim)?;
-    let stress = sim.stress.iter().map(|s| (s[0] - sx).abs().max(s[1].abs()).max(s[2].abs()) / sx).fold(0.0, f64::max);
+    let stress = sim
+        .stress
+        .iter()
+        .map(|s| (s[0] - sx).abs().max(s[1].abs()).max(s[2].abs()) / sx)
+        .fold(0.0, f64::max);
     // the left roller stretches by σ/p toward +x under its reaction
     let want = sx / e * w + sx / (sim.model.analysis.constraint_penalty * e / h);
     let u = monitor_values(&sim)[0];
@@ -247,7 +314,10 @@ pub fn bar_period() -> Result<(f64, f64), String> {
         .map(|w| w[0].0 + (w[1].0 - w[0].0) * (-w[0].1) / (w[1].1 - w[0].1))
         .collect();
     if ups.len() < 3 {
-        return Err(format!("bar period: only {} upward zero crossings", ups.len()));
+        return Err(format!(
+            "bar period: only {} upward zero crossings",
+            ups.len()
+        ));
     }
     Ok((ups[2] - ups[1], period))
 }
@@ -257,7 +327,11 @@ pub fn bar_period() -> Result<(f64, f64), String> {
 /// The paper's direct shear test (see `examples/direct_shear.toml`) with normal stress
 /// `sigma_n` and friction angle `phi`. Returns per step (shear stress −fx/L, normal
 /// stress fn/L, Newton iterations, residual norms).
-pub fn direct_shear(sigma_n: f64, phi: f64, algorithm: &str) -> Result<Vec<(f64, f64, usize, Vec<f64>)>, String> {
+pub fn direct_shear(
+    sigma_n: f64,
+    phi: f64,
+    algorithm: &str,
+) -> Result<Vec<(f64, f64, usize, Vec<f64>)>, String> {
     let text = format!(
         "[analysis]\nmode = \"static\"\ndt = 1.0\nsteps = 5\nfriction = \"{algorithm}\"\n[cover]\nsize = 0.025\n\
          [[material]]\nname = \"rock\"\ndensity = 2500.0\nyoung = 1.0e9\npoisson = 0.0\n\
@@ -281,7 +355,12 @@ pub fn direct_shear(sigma_n: f64, phi: f64, algorithm: &str) -> Result<Vec<(f64,
 /// A block (0.5 m × 0.25 m) on a plane dipping θ, both blocks rotated so the mesh is not
 /// aligned, dynamic under gravity. Returns (slip along the plane at the end, closed form
 /// ½ g (sin θ − cos θ tan φ) t² (0 when φ ≥ θ), Newton iterations per step).
-pub fn incline(theta: f64, phi: f64, dt: f64, steps: usize) -> Result<(f64, f64, Vec<usize>), String> {
+pub fn incline(
+    theta: f64,
+    phi: f64,
+    dt: f64,
+    steps: usize,
+) -> Result<(f64, f64, Vec<usize>), String> {
     let rot = |pts: &[[f64; 2]]| place(pts, -theta, [0.0, 2.5]);
     let base = rot(&[[0.0, -0.5], [4.0, -0.5], [4.0, 0.0], [0.0, 0.0]]);
     let slider = rot(&[[0.5, 0.0], [1.0, 0.0], [1.0, 0.25], [0.5, 0.25]]);
@@ -323,7 +402,9 @@ pub struct Settled {
 /// `steps` × 2 ms.
 pub fn settle(blocks: &[(f64, f64, f64, f64)], steps: usize) -> Result<Settled, String> {
     let (rho, g, pn) = (2000.0, 9.81, 1.0e10);
-    let rect = |x0: f64, y0: f64, w: f64, h: f64| poly(&[[x0, y0], [x0 + w, y0], [x0 + w, y0 + h], [x0, y0 + h]]);
+    let rect = |x0: f64, y0: f64, w: f64, h: f64| {
+        poly(&[[x0, y0], [x0 + w, y0], [x0 + w, y0 + h], [x0, y0 + h]])
+    };
     let mut text = format!(
         "[analysis]\nmode = \"dynamic\"\ndt = 0.002\nsteps = {steps}\ngravity = [0.0, -{g}]\n[cover]\nsize = 0.1\n\
          [[material]]\nname = \"brick\"\ndensity = {rho}\nyoung = 5.0e9\npoisson = 0.2\n\
@@ -333,24 +414,38 @@ pub fn settle(blocks: &[(f64, f64, f64, f64)], steps: usize) -> Result<Settled, 
     );
     let mut weight = 0.0;
     for (i, &(x, y, w, h)) in blocks.iter().enumerate() {
-        text += &format!("[[block]]\nname = \"b{i}\"\nmaterial = \"brick\"\nvertices = {}\n", rect(x, y, w, h));
+        text += &format!(
+            "[[block]]\nname = \"b{i}\"\nmaterial = \"brick\"\nvertices = {}\n",
+            rect(x, y, w, h)
+        );
         weight += rho * g * w * h;
     }
     let mut sim = simulate(&text)?;
     let iterations = run_to_end(&mut sim)?;
-    let fy: f64 = (1..=blocks.len()).map(|b| sim.contacts.interface_force(0, b).fy).sum();
+    let fy: f64 = (1..=blocks.len())
+        .map(|b| sim.contacts.interface_force(0, b).fy)
+        .sum();
     Ok(Settled {
         base_force: -fy,
         weight,
         max_velocity: sim.v.iter().fold(0.0f64, |m, v| m.max(v.abs())),
-        max_penetration: sim.contacts.contacts.iter().map(|c| -c.response.tn / c.params.pn).fold(0.0f64, f64::max),
+        max_penetration: sim
+            .contacts
+            .contacts
+            .iter()
+            .map(|c| -c.response.tn / c.params.pn)
+            .fold(0.0f64, f64::max),
         iterations,
     })
 }
 
 /// A stack of three blocks.
 pub fn stack_blocks() -> Vec<(f64, f64, f64, f64)> {
-    vec![(0.0, 0.0, 1.0, 0.4), (0.1, 0.4, 0.8, 0.4), (0.2, 0.8, 0.6, 0.4)]
+    vec![
+        (0.0, 0.0, 1.0, 0.4),
+        (0.1, 0.4, 0.8, 0.4),
+        (0.2, 0.8, 0.6, 0.4),
+    ]
 }
 
 /// A wall of three courses of 0.6 m × 0.25 m bricks in running bond.
@@ -358,7 +453,11 @@ pub fn wall_blocks() -> Vec<(f64, f64, f64, f64)> {
     let (bw, bh) = (0.6, 0.25);
     let mut bricks = Vec::new();
     for course in 0..3 {
-        let (shift, n) = if course % 2 == 0 { (0.0, 4) } else { (0.5 * bw, 3) };
+        let (shift, n) = if course % 2 == 0 {
+            (0.0, 4)
+        } else {
+            (0.5 * bw, 3)
+        };
         for k in 0..n {
             bricks.push((shift + k as f64 * bw, course as f64 * bh, bw, bh));
         }

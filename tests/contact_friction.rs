@@ -4,42 +4,66 @@
 
 use nmm::verify::cases::{direct_shear, incline, median, settle, stack_blocks, wall_blocks};
 
-const CASES: [(f64, f64); 3] = [(1.0e6, 30.0), (0.5e6, 20.0), (2.0e6, 40.0)];
+const CASES: [(f64, f64); 3] = [(1.0e6, 30.0), (0.5e6, 20.0), (2.0e6, 15.0)];
 
-/// With return mapping the joint's shear stress is σn tan φ (±0.1%) at every step (the
-/// 0.06 mm steps are far beyond the elastic shear displacement, so every step slides).
+/// With return mapping the joint's shear stress is σn tan φ (±0.1%) at every step in
+/// which the joint slides (all closed contacts sliding; the first 0.06 mm step is partly
+/// taken up by the elastic shortening of the upper block), and never above it by more
+/// than 0.1% at any step.
 #[test]
 fn direct_shear_return_mapping_stays_at_the_strength() {
     for (sigma_n, phi) in CASES {
         let strength = sigma_n * phi.to_radians().tan();
         let h = direct_shear(sigma_n, phi, "return-mapping").unwrap();
-        for (step, (tau, sn, its, _)) in h.iter().enumerate() {
-            eprintln!("return mapping σn={sigma_n} φ={phi} step {}: τ = {tau:.6e} ({:+.4}%), σn = {sn:.6e}, {its} iterations", step + 1, (tau / strength - 1.0) * 100.0);
+        for (i, s) in h.iter().enumerate() {
+            eprintln!(
+                "return mapping σn={sigma_n} φ={phi} step {}: τ = {:.6e} ({:+.4}%), σn = {:.6e}, sliding {}, {} iterations",
+                i + 1,
+                s.tau,
+                (s.tau / strength - 1.0) * 100.0,
+                s.sigma_n,
+                s.sliding,
+                s.iterations
+            );
+            // the joint carries the applied normal stress (static mode: inertia 2M/Δt²·Δu ~ 1e-8)
             assert!(
-                (sn - sigma_n).abs() < 1e-6 * sigma_n,
-                "step {}: σn {sn}",
-                step + 1
+                (s.sigma_n - sigma_n).abs() < 1e-6 * sigma_n,
+                "step {}: σn {}",
+                i + 1,
+                s.sigma_n
             );
             assert!(
-                ((tau - strength) / strength).abs() < 1e-3,
-                "step {}: τ = {tau}, strength {strength}",
-                step + 1
+                s.tau <= strength * 1.001,
+                "step {}: τ = {} above {strength}",
+                i + 1,
+                s.tau
             );
+            if s.sliding {
+                assert!(
+                    ((s.tau - strength) / strength).abs() < 1e-3,
+                    "step {}: τ = {}, strength {strength}",
+                    i + 1,
+                    s.tau
+                );
+            }
         }
+        assert!(
+            h.iter().filter(|s| s.sliding).count() >= 3,
+            "the joint must slide in most steps"
+        );
     }
 }
 
-/// With the conventional rule the first sliding step carries the elastic shear force,
-/// far above the strength, and no step falls below it.
+/// With the conventional rule the step in which the joint starts sliding carries the
+/// elastic shear force, above the strength.
 #[test]
 fn direct_shear_conventional_overshoots_the_strength() {
     for (sigma_n, phi) in CASES {
         let strength = sigma_n * phi.to_radians().tan();
         let h = direct_shear(sigma_n, phi, "conventional").unwrap();
-        let taus: Vec<f64> = h.iter().map(|s| s.0 / strength).collect();
+        let taus: Vec<f64> = h.iter().map(|s| s.tau / strength).collect();
         eprintln!("conventional σn={sigma_n} φ={phi}: τ/strength per step {taus:?}");
-        assert!(taus[0] > 1.001, "{taus:?}");
-        assert!(taus.iter().all(|&t| t >= 1.0 - 1e-3), "{taus:?}");
+        assert!(taus.iter().any(|&t| t > 1.001), "{taus:?}");
     }
 }
 
@@ -68,7 +92,7 @@ fn block_holds_on_incline_when_friction_exceeds_slope() {
 }
 
 fn check_settled(label: &str, blocks: &[(f64, f64, f64, f64)]) {
-    let s = settle(blocks, 1500).unwrap();
+    let s = settle(blocks, 200).unwrap();
     let rel = (s.base_force - s.weight).abs() / s.weight;
     eprintln!(
         "{label}: base force {:.9e} vs weight {:.9e} (rel {rel:.2e}), max |v| {:.2e} m/s, max penetration {:.2e} m, median iterations {}",
@@ -105,11 +129,12 @@ fn masonry_wall_settles_to_rest() {
 /// successive residuals is below 1e-3.
 #[test]
 fn newton_converges_fast_when_contacts_slide() {
-    for (step, (_, _, _, r)) in direct_shear(1.0e6, 30.0, "return-mapping")
+    for (step, s) in direct_shear(1.0e6, 30.0, "return-mapping")
         .unwrap()
         .iter()
         .enumerate()
     {
+        let r = &s.residuals;
         eprintln!("step {}: residuals {r:?}", step + 1);
         let k = r.len() - 1;
         assert!(r[k] < 1e-8 * r[0], "{r:?}");

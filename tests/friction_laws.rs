@@ -151,10 +151,11 @@ fn load_reversal_slide_stick_slide_other_way() {
     assert_eq!(first_back_slide, 8);
     assert!((log[8].1 + s).abs() < 1e-9 * s);
 
-    // The conventional rule reverses the same way, but only after its one-step lag.
+    // The conventional rule reverses the same way, but only after its one-step lags:
+    // sliding starts a step late, and the reversal is seen at the end of the step.
     let mut h = ShearHistory::default();
     let mut conv = Vec::new();
-    for dgs in [4e-6, 4e-6, 4e-6, -2e-6] {
+    for dgs in [4e-6, 4e-6, 4e-6, -2e-6, -2e-6] {
         let r = conventional(&p, &h, GN, dgs);
         h = commit(FrictionAlgorithm::Conventional, &p, &h, &r);
         conv.push((r.status, r.ts));
@@ -163,8 +164,10 @@ fn load_reversal_slide_stick_slide_other_way() {
     assert!(conv[1].1 > s);
     assert_eq!(conv[2].0, Slide);
     assert!((conv[2].1 - s).abs() < 1e-9 * s);
-    assert_eq!(conv[3].0, Stick); // reversal: elastic from g_S^e = S/p_S
-    assert!((conv[3].1 - (s - 2e5)).abs() < 1e-6 * s);
+    assert_eq!(conv[3].0, Slide); // mode frozen within the step: still the friction force
+    assert!((conv[3].1 - s).abs() < 1e-9 * s);
+    assert_eq!(conv[4].0, Stick); // reversal seen at commit: elastic from g_S^e = S/p_S
+    assert!((conv[4].1 - (s - 2e5)).abs() < 1e-6 * s);
 }
 
 /// Two unknowns x = (g_N, Δg_S) loaded through a coupled elastic frame `K`:

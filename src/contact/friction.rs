@@ -36,16 +36,29 @@
 //! # Conventional rule ([`conventional`], classical DDA/NMM open–close, for comparison)
 //! The contact mode (stick or slide) is frozen during a step and taken from the
 //! committed state; only the end-of-step check ([`commit`]) changes it:
-//! * committed `Open` or `Stick`: the shear spring is elastic for the whole step,
+//! * committed `Stick`: the shear spring is elastic for the whole step,
 //!   `t_S = p_S (g_S^e|ₙ + Δg_S)`, tangent `p_S`, **no limit**;
+//! * committed `Open` (a contact that closes during the step): Coulomb-limited by its
+//!   current normal force, as by the return mapping. Such a contact has no elastic shear
+//!   history; left unlimited, the spring would be stretched by the whole step's slip and
+//!   the Newton iteration cycles between opening and closing it (DDA's open–close
+//!   iteration likewise checks a new contact's shear against its strength before
+//!   locking it). The overshoot this rule is kept for — contacts that were sticking and
+//!   start to slide — is unchanged;
 //! * committed `Slide` with direction `s = slide_sign`: the shear force is the
 //!   friction force of the **last committed** normal force,
-//!   `t_S = s (|t_N|ₙ tan φ + c)`, tangent `∂t_S/∂g_N = ∂t_S/∂g_S = 0`;
-//!   if the increment reverses the slide direction (`s Δg_S < 0`) the contact
-//!   returns to stick and is elastic from `g_S^e|ₙ`;
+//!   `t_S = s (|t_N|ₙ tan φ + c)`, tangent `∂t_S/∂g_N = ∂t_S/∂g_S = 0`; while the
+//!   contact unloads (`|t_N| < |t_N|ₙ`) this force is scaled by `t_N / t_Nₙ`, so that it
+//!   vanishes as the contact opens — a constant friction force on a contact that may open
+//!   within the step is discontinuous and makes the iteration cycle. The lag (the force
+//!   of the previous normal force) is kept whenever the normal force grows;
+//!   the mode is frozen for the whole step (as in DDA's open–close iteration, the mode
+//!   changes are decided between steps; deciding them at every Newton iterate makes the
+//!   iteration cycle between two states);
 //! * commit: if an elastic (stick) contact ends the step with `|t_S| ≥ S(t_N)`,
 //!   it is switched to `Slide` *for the next step*, with `slide_sign = sgn t_S`
-//!   and `g_S^e = slide_sign·S/p_S`.
+//!   and `g_S^e = slide_sign·S/p_S`; a sliding contact whose slip reversed during the
+//!   step (`s Δg_S < 0`) returns to `Stick` for the next step, elastic from its force.
 //!
 //! ## Why the conventional rule overshoots
 //! Within the step in which the strength is first exceeded, the converged
@@ -196,25 +209,31 @@ pub fn conventional(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> 
     }
     let tn = p.pn * gn;
     match h.status {
-        ContactStatus::Open | ContactStatus::Stick => stick(p, h, tn, dgs),
+        // A contact that was open at the start of the step has no elastic shear history
+        // to overshoot from: it is limited by the current strength (see the module docs).
+        ContactStatus::Open => return_mapping(p, h, gn, dgs),
+        ContactStatus::Stick => stick(p, h, tn, dgs),
         ContactStatus::Slide => {
             let s = if h.slide_sign == 0.0 {
                 1.0
             } else {
                 sgn(h.slide_sign)
             };
-            if s * dgs < 0.0 {
-                // Reversal: back to the elastic spring.
-                return stick(p, h, tn, dgs);
-            }
-            let ts = s * p.strength(h.tn);
+            // friction force of the last committed normal force, lowered in proportion
+            // when the contact unloads (r < 1) so that it vanishes as the contact opens
+            let (r, dr_dgn) = if h.tn < 0.0 && tn > h.tn {
+                (tn / h.tn, p.pn / h.tn)
+            } else {
+                (1.0, 0.0)
+            };
+            let ts = s * p.strength(h.tn) * r;
             let ge = ts / p.ps;
             LawResponse {
                 tn,
                 ts,
                 dtn_dgn: p.pn,
                 dtn_dgs: 0.0,
-                dts_dgn: 0.0,
+                dts_dgn: s * p.strength(h.tn) * dr_dgn,
                 dts_dgs: 0.0,
                 status: ContactStatus::Slide,
                 ge,
@@ -252,6 +271,20 @@ pub fn commit(
 ) -> ShearHistory {
     match r.status {
         ContactStatus::Open => ShearHistory::default(),
+        // Conventional: a sliding contact whose slip reversed during the step returns to
+        // the elastic spring for the next step (the mode is frozen within a step).
+        ContactStatus::Slide
+            if alg == FrictionAlgorithm::Conventional
+                && h.status == ContactStatus::Slide
+                && h.slide_sign * r.slip < 0.0 =>
+        {
+            ShearHistory {
+                ge: r.ge,
+                status: ContactStatus::Stick,
+                tn: r.tn,
+                slide_sign: 0.0,
+            }
+        }
         ContactStatus::Slide => ShearHistory {
             ge: r.ge,
             status: ContactStatus::Slide,
@@ -385,7 +418,7 @@ mod tests {
         // Conventional slide uses the committed force plus cohesion.
         let hs = committed(0.0, ContactStatus::Slide, -2e6, 1.0);
         assert_relative_eq!(
-            conventional(&p, &hs, -1e-5, 1e-4).ts,
+            conventional(&p, &hs, -3e-5, 1e-4).ts,
             2e6 * P.tan_phi + 2e5,
             max_relative = 1e-14
         );
@@ -399,17 +432,29 @@ mod tests {
         assert_eq!(r.status, ContactStatus::Stick);
         assert_relative_eq!(r.ts, 1e6, max_relative = 1e-14);
         assert_eq!((r.dts_dgn, r.dts_dgs), (0.0, P.ps));
-        // Slide: the force of the last committed t_N, not the current one, zero tangent.
+        // Slide: the force of the last committed t_N, not the current (larger) one, zero tangent.
         let h = committed(-3e-4, ContactStatus::Slide, -2e6, -1.0);
-        let r = conventional(&P, &h, -1e-5, -1e-4);
+        let r = conventional(&P, &h, -3e-5, -1e-4);
         assert_eq!(r.status, ContactStatus::Slide);
         assert_relative_eq!(r.ts, -2e6 * P.tan_phi, max_relative = 1e-14);
         assert_eq!((r.dts_dgn, r.dts_dgs), (0.0, 0.0));
         assert_relative_eq!(r.slip, -1e-4 - (r.ge - h.ge), max_relative = 1e-12);
-        // Reversal: elastic from the committed elastic gap.
-        let r = conventional(&P, &h, -1e-5, 1e-4);
-        assert_eq!(r.status, ContactStatus::Stick);
-        assert_relative_eq!(r.ts, P.ps * (-3e-4 + 1e-4), max_relative = 1e-14);
+        // Unloading (|t_N| = 1e6 < 2e6): the force is scaled by t_N / t_Nₙ = 0.5.
+        let r = conventional(&P, &h, -1e-5, -1e-4);
+        assert_relative_eq!(r.ts, -1e6 * P.tan_phi, max_relative = 1e-14);
+        assert_relative_eq!(
+            r.dts_dgn,
+            -2e6 * P.tan_phi * P.pn / -2e6,
+            max_relative = 1e-14
+        );
+        // Reversal within the step: the mode stays frozen (friction force of the step) ...
+        let r = conventional(&P, &h, -3e-5, 1e-4);
+        assert_eq!(r.status, ContactStatus::Slide);
+        assert_relative_eq!(r.ts, -2e6 * P.tan_phi, max_relative = 1e-14);
+        // ... and the commit returns the contact to stick for the next step.
+        let c = commit(FrictionAlgorithm::Conventional, &P, &h, &r);
+        assert_eq!(c.status, ContactStatus::Stick);
+        assert_relative_eq!(c.ge, r.ts / P.ps, max_relative = 1e-14);
     }
 
     #[test]

@@ -28,8 +28,9 @@ use super::broad::sweep_and_prune;
 use super::friction::{self, ContactStatus, FrictionParams, LawResponse, ShearHistory};
 use super::narrow::vertex_edge_contacts;
 use crate::assembly::global::NO_DOF;
+use crate::contact::narrow::VertexEdge;
 use crate::cover::{barycentric, Discretisation};
-use crate::geometry::{dist, Aabb, Vec2};
+use crate::geometry::{cross, dist, dot, norm, sub, Aabb, Vec2};
 use crate::model::{FrictionAlgorithm, Model};
 use crate::solver::SparseMatrix;
 use std::collections::HashMap;
@@ -100,7 +101,8 @@ pub struct ContactSnapshot {
 #[derive(Debug, Clone, Default)]
 pub struct ContactSet {
     pub contacts: Vec<Contact>,
-    committed: HashMap<ContactKey, ShearHistory>,
+    /// Committed history of each closed contact, with the outward normal it had.
+    committed: HashMap<ContactKey, (ShearHistory, Vec2)>,
     algorithm: Option<FrictionAlgorithm>,
     last_status: Vec<ContactStatus>,
 }
@@ -155,8 +157,23 @@ impl ContactSet {
                 continue;
             };
             for (pa, pb) in [(a, b), (b, a)] {
-                for ve in vertex_edge_contacts(&polys[pa], &polys[pb], search, &corners[pa]) {
+                for mut ve in vertex_edge_contacts(&polys[pa], &polys[pb], search, &corners[pa]) {
                     let key = (pa, ve.vertex, pb);
+                    if let Some((_, n_old)) = self.committed.get(&key) {
+                        // Corner against corner the entrance edge is nearly a tie; keep the
+                        // edge the contact had while it still holds the vertex, so that the
+                        // normal does not flip between steps (which pumps energy in).
+                        if dot(*n_old, ve.normal) < 0.9 {
+                            if let Some(kept) =
+                                keep_edge(&polys[pa][ve.vertex], &polys[pb], *n_old, search)
+                            {
+                                ve = VertexEdge {
+                                    vertex: ve.vertex,
+                                    ..kept
+                                };
+                            }
+                        }
+                    }
                     let vert = &disc.boundaries[pa].vertices[ve.vertex];
                     let eb = disc.boundaries[pb].segment_elements[ve.segment];
                     let nb = polys[pb].len();
@@ -198,7 +215,14 @@ impl ContactSet {
                         tan_phi: iface.friction_angle.to_radians().tan(),
                         cohesion: iface.cohesion * trib,
                     };
-                    let history = self.committed.get(&key).copied().unwrap_or_default();
+                    let mut history = self.committed.get(&key).map(|c| c.0).unwrap_or_default();
+                    if history.status == ContactStatus::Open && ve.gap <= 0.0 {
+                        // touching at the start of the step: an elastic shear spring from here
+                        history = ShearHistory {
+                            status: ContactStatus::Stick,
+                            ..ShearHistory::default()
+                        };
+                    }
                     let response =
                         friction::evaluate(model.analysis.friction, &params, &history, ve.gap, 0.0);
                     self.contacts.push(Contact {
@@ -294,7 +318,7 @@ impl ContactSet {
             let h = friction::commit(alg, &c.params, &c.history, &c.response);
             c.history = h;
             if c.response.status != ContactStatus::Open {
-                self.committed.insert(c.key, h);
+                self.committed.insert(c.key, (h, c.normal));
             }
         }
     }
@@ -343,4 +367,41 @@ impl ContactSet {
             })
             .collect()
     }
+}
+
+/// The segment of `b` whose outward normal is (nearly) `n_old` and that still holds
+/// vertex `p` (projection within the segment, gap within [−search, search]).
+fn keep_edge(p: &Vec2, b: &[Vec2], n_old: Vec2, search: f64) -> Option<VertexEdge> {
+    let m = b.len();
+    let mut best: Option<VertexEdge> = None;
+    for j in 0..m {
+        let (a, q) = (b[j], b[(j + 1) % m]);
+        let d = sub(q, a);
+        let len = norm(d);
+        if len == 0.0 {
+            continue;
+        }
+        let t = [d[0] / len, d[1] / len];
+        // CCW polygon: the outward normal is the tangent turned clockwise
+        let n = [t[1], -t[0]];
+        if dot(n, n_old) < 0.99 {
+            continue;
+        }
+        let xi = dot(sub(*p, a), t) / len;
+        let gap = cross(d, sub(*p, a)) / len * -1.0;
+        if !(-1e-9..=1.0 + 1e-9).contains(&xi) || gap.abs() > search {
+            continue;
+        }
+        if best.is_none_or(|bst| gap.abs() < bst.gap.abs()) {
+            best = Some(VertexEdge {
+                vertex: 0,
+                segment: j,
+                xi: xi.clamp(0.0, 1.0),
+                gap,
+                normal: n,
+                tangent: t,
+            });
+        }
+    }
+    best
 }

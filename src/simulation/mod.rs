@@ -98,6 +98,9 @@ pub struct Simulation {
     pub contacts: ContactSet,
     pub timings: Timings,
     pub(crate) elem_dofs: Vec<[usize; 6]>,
+    /// Element areas on the initial geometry: the mass ρ A₀ of an element is conserved
+    /// while its area changes with the strain.
+    pub(crate) initial_area: Vec<f64>,
     pub(crate) d_mats: Vec<Mat3>,
     pub(crate) f_load: Vec<f64>,
     pub(crate) penalties: Vec<Penalty>,
@@ -133,6 +136,11 @@ impl Simulation {
             .map(|m| elasticity_matrix(m.young, m.poisson, m.plane))
             .collect();
         let n_el = disc.elements.len();
+        let initial_area = disc
+            .elements
+            .iter()
+            .map(|e| crate::geometry::moments::polygon_area(&e.polygon))
+            .collect();
         let mut sim = Simulation {
             contacts: ContactSet::default(),
             step: 0,
@@ -145,6 +153,7 @@ impl Simulation {
                 ..Default::default()
             },
             elem_dofs,
+            initial_area,
             d_mats,
             f_load: vec![0.0; n],
             penalties: Vec::new(),
@@ -251,9 +260,17 @@ impl Simulation {
         self.timings.stages += rep.times;
         if !rep.converged {
             let last = rep.residuals.last().copied().unwrap_or(f64::NAN);
+            let tail: Vec<String> = rep
+                .residuals
+                .iter()
+                .rev()
+                .take(4)
+                .rev()
+                .map(|r| format!("{r:.2e}"))
+                .collect();
             let detail = match &rep.error {
                 Some(e) => format!(": {e}"),
-                None => String::new(),
+                None => format!(" (residuals ... {})", tail.join(", ")),
             };
             return Err((last, detail));
         }
@@ -342,8 +359,9 @@ impl Simulation {
                 continue;
             }
             let mat = self.material_of_element(ei);
-            let rho = self.model.materials[mat].density;
             let it = local::element_integrals(e);
+            // conserved mass: the current density is ρ₀ A₀ / A
+            let rho = self.model.materials[mat].density * self.initial_area[ei] / it.area;
             let mut k = local::stiffness(it.area, &it.grads, &self.d_mats[mat]);
             let m = local::mass(rho, &it.int_ww, 1.0);
             for (kv, mv) in k.iter_mut().zip(&m) {

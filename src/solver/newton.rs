@@ -63,6 +63,15 @@ pub struct NewtonReport {
     pub times: StageTimes,
     /// Set when the linear solve failed.
     pub error: Option<SolveError>,
+    /// Total halvings of Newton steps by the line search.
+    pub backtracks: usize,
+    /// Length of the last accepted increment ‖α δ‖.
+    pub last_step: f64,
+}
+
+/// How many halvings gave the step factor `alpha`.
+fn backtracks_of(alpha: f64) -> usize {
+    (-alpha.log2()).round() as usize
 }
 
 fn norm(v: &[f64]) -> f64 {
@@ -70,6 +79,13 @@ fn norm(v: &[f64]) -> f64 {
 }
 
 /// Solve R(x) = 0 from the initial guess in `x` (updated in place).
+///
+/// Each Newton direction δ is tried in full first; if the residual norm does not fall
+/// (‖R(x + δ)‖ > (1 − 10⁻⁴)‖R(x)‖), the step is halved up to [`MAX_BACKTRACKS`] times
+/// and the last trial is taken (backtracking line search). Near the solution the full
+/// step is always accepted, so the quadratic convergence is kept; far from it the line
+/// search breaks the two-state cycles that the non-smooth contact laws (open/closed,
+/// stick/slide) otherwise cause.
 pub fn newton(
     sys: &mut dyn NonlinearSystem,
     jac: &mut SparseMatrix,
@@ -79,26 +95,20 @@ pub fn newton(
 ) -> NewtonReport {
     let n = x.len();
     let mut r = vec![0.0; n];
+    let mut delta = vec![0.0; n];
+    let mut trial = vec![0.0; n];
     let mut rep = NewtonReport::default();
-    let mut last_dx = f64::INFINITY;
+    let mut symmetric = evaluate(sys, x, &mut r, jac, &mut rep.times);
+    let mut rn = norm(&r);
+    rep.residuals.push(rn);
+    let scale = sys.reference_norm().max(f64::MIN_POSITIVE);
     for it in 0..=opts.max_iterations {
-        let t0 = Instant::now();
-        let contact_before = rep.times.contact;
-        jac.clear();
-        let symmetric = sys.evaluate(x, &mut r, jac, &mut rep.times);
-        // assembly time excludes what the system booked as contact work
-        rep.times.assembly += t0
-            .elapsed()
-            .saturating_sub(rep.times.contact - contact_before);
-        let rn = norm(&r);
-        rep.residuals.push(rn);
         if !rn.is_finite() {
             return rep;
         }
-        let scale = sys.reference_norm().max(f64::MIN_POSITIVE);
         if it > 0 {
             let small_r = rn <= opts.tolerance * scale;
-            let small_dx = last_dx <= opts.tolerance * norm(x).max(f64::MIN_POSITIVE);
+            let small_dx = rep.last_step <= opts.tolerance * norm(x).max(f64::MIN_POSITIVE);
             if small_r && (small_dx || !sys.active_set_changed()) {
                 rep.converged = true;
                 return rep;
@@ -114,18 +124,52 @@ pub fn newton(
         }
         let t2 = Instant::now();
         rep.times.factorisation += t2 - t1;
-        if let Err(e) = solver.solve_in_place(&mut r) {
+        delta.copy_from_slice(&r);
+        if let Err(e) = solver.solve_in_place(&mut delta) {
             rep.error = Some(e);
             return rep;
         }
         rep.times.solve += t2.elapsed();
-        for (xi, di) in x.iter_mut().zip(&r) {
-            *xi += di;
-        }
-        last_dx = norm(&r);
         rep.iterations += 1;
+        // backtracking line search on ‖R‖
+        let mut alpha = 1.0;
+        loop {
+            for i in 0..n {
+                trial[i] = x[i] + alpha * delta[i];
+            }
+            symmetric = evaluate(sys, &trial, &mut r, jac, &mut rep.times);
+            let rt = norm(&r);
+            if rt <= (1.0 - 1e-4 * alpha) * rn || backtracks_of(alpha) >= MAX_BACKTRACKS {
+                x.copy_from_slice(&trial);
+                rn = rt;
+                break;
+            }
+            alpha *= 0.5;
+            rep.backtracks += 1;
+        }
+        rep.last_step = alpha * norm(&delta);
+        rep.residuals.push(rn);
     }
     rep
+}
+
+/// Most halvings of a Newton step in the line search.
+pub const MAX_BACKTRACKS: usize = 6;
+
+fn evaluate(
+    sys: &mut dyn NonlinearSystem,
+    x: &[f64],
+    r: &mut [f64],
+    jac: &mut SparseMatrix,
+    times: &mut StageTimes,
+) -> bool {
+    let t0 = Instant::now();
+    let contact_before = times.contact;
+    jac.clear();
+    let symmetric = sys.evaluate(x, r, jac, times);
+    // assembly time excludes what the system booked as contact work
+    times.assembly += t0.elapsed().saturating_sub(times.contact - contact_before);
+    symmetric
 }
 
 #[cfg(test)]

@@ -324,14 +324,25 @@ pub fn bar_period() -> Result<(f64, f64), String> {
 
 // ---------------------------------------------------------------- contact and friction
 
+/// One step of the direct shear test.
+#[derive(Debug, Clone)]
+pub struct ShearStep {
+    /// Imposed shear displacement (m).
+    pub displacement: f64,
+    /// Shear stress on the joint, −fx / L (Pa).
+    pub tau: f64,
+    /// Normal stress on the joint, fy / L (Pa): the vertical force the lower block takes,
+    /// as the load cell of a shear box measures it.
+    pub sigma_n: f64,
+    /// Whether every closed contact of the joint slides.
+    pub sliding: bool,
+    pub iterations: usize,
+    pub residuals: Vec<f64>,
+}
+
 /// The paper's direct shear test (see `examples/direct_shear.toml`) with normal stress
-/// `sigma_n` and friction angle `phi`. Returns per step (shear stress −fx/L, normal
-/// stress fn/L, Newton iterations, residual norms).
-pub fn direct_shear(
-    sigma_n: f64,
-    phi: f64,
-    algorithm: &str,
-) -> Result<Vec<(f64, f64, usize, Vec<f64>)>, String> {
+/// `sigma_n` and friction angle `phi`: five steps of 0.06 mm.
+pub fn direct_shear(sigma_n: f64, phi: f64, algorithm: &str) -> Result<Vec<ShearStep>, String> {
     let text = format!(
         "[analysis]\nmode = \"static\"\ndt = 1.0\nsteps = 5\nfriction = \"{algorithm}\"\n[cover]\nsize = 0.025\n\
          [[material]]\nname = \"rock\"\ndensity = 2500.0\nyoung = 1.0e9\npoisson = 0.0\n\
@@ -347,7 +358,21 @@ pub fn direct_shear(
     while !sim.finished() {
         let rep = sim.advance().map_err(|e| e.to_string())?;
         let v = monitor_values(&sim);
-        out.push((-v[0] / 0.1, v[2] / 0.1, rep.iterations, rep.residuals));
+        let states: Vec<_> = sim
+            .contacts
+            .contacts
+            .iter()
+            .map(|c| c.response.status)
+            .collect();
+        use crate::contact::ContactStatus::{Slide, Stick};
+        out.push(ShearStep {
+            displacement: 6.0e-5 * sim.time,
+            tau: -v[0] / 0.1,
+            sigma_n: v[1] / 0.1,
+            sliding: states.contains(&Slide) && !states.contains(&Stick),
+            iterations: rep.iterations,
+            residuals: rep.residuals,
+        });
     }
     Ok(out)
 }
@@ -398,15 +423,28 @@ pub struct Settled {
     pub iterations: Vec<usize>,
 }
 
-/// Rectangular blocks `(x, y, w, h)` on a fixed base, dynamic under gravity for
-/// `steps` × 2 ms.
+/// Rectangular blocks `(x, y, w, h)` on a fixed base, settled under gravity in static
+/// mode (DDA's quasi-static analysis: the velocity is reset every step) with Δt = 10 ms.
+/// Static mode is how a model is brought to rest: in dynamic mode the β = ½, γ = 1
+/// scheme damps the displacement of very stiff (penalty) modes in a step but leaves their
+/// velocity flipping sign from step to step (see `time::amplification`).
 pub fn settle(blocks: &[(f64, f64, f64, f64)], steps: usize) -> Result<Settled, String> {
+    settle_with(blocks, steps, "static", 0.01)
+}
+
+/// [`settle`] with a chosen mode and time step.
+pub fn settle_with(
+    blocks: &[(f64, f64, f64, f64)],
+    steps: usize,
+    mode: &str,
+    dt: f64,
+) -> Result<Settled, String> {
     let (rho, g, pn) = (2000.0, 9.81, 1.0e10);
     let rect = |x0: f64, y0: f64, w: f64, h: f64| {
         poly(&[[x0, y0], [x0 + w, y0], [x0 + w, y0 + h], [x0, y0 + h]])
     };
     let mut text = format!(
-        "[analysis]\nmode = \"dynamic\"\ndt = 0.002\nsteps = {steps}\ngravity = [0.0, -{g}]\n[cover]\nsize = 0.1\n\
+        "[analysis]\nmode = \"{mode}\"\ndt = {dt}\nsteps = {steps}\ngravity = [0.0, -{g}]\n[cover]\nsize = 0.1\n\
          [[material]]\nname = \"brick\"\ndensity = {rho}\nyoung = 5.0e9\npoisson = 0.2\n\
          [[block]]\nname = \"base\"\nmaterial = \"brick\"\nvertices = {}\nfixed = true\n\
          [[interface]]\nfriction_angle = 35.0\nnormal_penalty = {pn}\nshear_penalty = {pn}\n",
@@ -448,18 +486,28 @@ pub fn stack_blocks() -> Vec<(f64, f64, f64, f64)> {
     ]
 }
 
-/// A wall of three courses of 0.6 m × 0.25 m bricks in running bond.
+/// A wall of four courses of 0.6 m × 0.25 m bricks in running bond (half bricks at the
+/// ends of the odd courses), 2.4 m long.
 pub fn wall_blocks() -> Vec<(f64, f64, f64, f64)> {
+    wall_courses(4)
+}
+
+/// A running-bond wall of `courses` courses (see [`wall_blocks`]).
+pub fn wall_courses(courses: usize) -> Vec<(f64, f64, f64, f64)> {
     let (bw, bh) = (0.6, 0.25);
     let mut bricks = Vec::new();
-    for course in 0..3 {
-        let (shift, n) = if course % 2 == 0 {
-            (0.0, 4)
+    for course in 0..courses {
+        let y = course as f64 * bh;
+        if course % 2 == 0 {
+            for k in 0..4 {
+                bricks.push((k as f64 * bw, y, bw, bh));
+            }
         } else {
-            (0.5 * bw, 3)
-        };
-        for k in 0..n {
-            bricks.push((shift + k as f64 * bw, course as f64 * bh, bw, bh));
+            bricks.push((0.0, y, 0.5 * bw, bh));
+            for k in 0..3 {
+                bricks.push((0.5 * bw + k as f64 * bw, y, bw, bh));
+            }
+            bricks.push((3.5 * bw, y, 0.5 * bw, bh));
         }
     }
     bricks

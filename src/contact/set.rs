@@ -388,7 +388,7 @@ fn keep_edge(p: &Vec2, b: &[Vec2], n_old: Vec2, search: f64) -> Option<VertexEdg
             continue;
         }
         let xi = dot(sub(*p, a), t) / len;
-        let gap = cross(d, sub(*p, a)) / len * -1.0;
+        let gap = -cross(d, sub(*p, a)) / len;
         if !(-1e-9..=1.0 + 1e-9).contains(&xi) || gap.abs() > search {
             continue;
         }

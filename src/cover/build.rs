@@ -597,7 +597,7 @@ fn nearest_element(d: &Discretisation, map: &TriMap, x: Vec2) -> Option<usize> {
     for t in d.mesh.triangles_overlapping(&bx) {
         for e in map.elements(t) {
             let dist = distance_to_polygon(&d.elements[e].polygon, x);
-            if best.map_or(true, |(bd, _)| dist < bd) {
+            if best.is_none_or(|(bd, _)| dist < bd) {
                 best = Some((dist, e));
             }
         }

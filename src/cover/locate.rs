@@ -151,7 +151,7 @@ impl Discretisation {
         let mut best: Option<(f64, usize)> = None;
         for e in cands {
             let dd = distance_to_polygon(&self.elements[e].polygon, x);
-            if dd <= tol && best.map_or(true, |(bd, be)| dd < bd || (dd == bd && e < be)) {
+            if dd <= tol && best.is_none_or(|(bd, be)| dd < bd || (dd == bd && e < be)) {
                 best = Some((dd, e));
                 if dd == 0.0 {
                     break; // an exact hit is a valid answer

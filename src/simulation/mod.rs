@@ -384,10 +384,9 @@ impl Simulation {
             scatter_matrix(l, &p.dofs, &p.k);
             let target = self.functions[p.function].eval(t1);
             let ue: [f64; 3] = gather(&self.u, &p.dofs);
-            let mut fp = [0.0; 3];
-            for i in 0..3 {
-                fp[i] = target * p.g[i] - (0..3).map(|j| p.k[i * 3 + j] * ue[j]).sum::<f64>();
-            }
+            let fp: [f64; 3] = std::array::from_fn(|i| {
+                target * p.g[i] - (0..3).map(|j| p.k[i * 3 + j] * ue[j]).sum::<f64>()
+            });
             scatter_vector(f, &p.dofs, &fp);
         }
     }

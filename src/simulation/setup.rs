@@ -17,12 +17,9 @@ use crate::geometry::{dist, Vec2};
 use crate::model::{ConstraintGeometry, LoadKind, MonitorKind};
 
 /// A piece of boundary segment inside one element: (element, weights at both ends, length).
-fn edge_pieces(
-    sim: &Simulation,
-    block: usize,
-    a: Vec2,
-    b: Vec2,
-) -> Result<Vec<(usize, [f64; 3], [f64; 3], f64)>, String> {
+type EdgePiece = (usize, [f64; 3], [f64; 3], f64);
+
+fn edge_pieces(sim: &Simulation, block: usize, a: Vec2, b: Vec2) -> Result<Vec<EdgePiece>, String> {
     let pieces = sim.disc.boundary_pieces(block, a, b);
     let total: f64 = pieces.iter().map(|p| p.2).sum();
     if pieces.is_empty() || (total - dist(a, b)).abs() > 1e-6 * dist(a, b) {
@@ -80,10 +77,10 @@ pub(super) fn loads(sim: &mut Simulation) -> Result<(), String> {
                 {
                     for k in 0..3 {
                         let iw = 0.5 * len * (w1[k] + w2[k]);
-                        for c in 0..2 {
+                        for (c, tc) in traction.iter().enumerate() {
                             let d = cover_dof(sim, e, k, c);
                             if d != NO_DOF {
-                                f[d] += traction[c] * iw;
+                                f[d] += tc * iw;
                             }
                         }
                     }
@@ -92,10 +89,10 @@ pub(super) fn loads(sim: &mut Simulation) -> Result<(), String> {
             LoadKind::Point { p, force } => {
                 let mp = locate(sim, load.block, *p, &format!("[[load]] #{}", li + 1))?;
                 for k in 0..3 {
-                    for c in 0..2 {
+                    for (c, fc) in force.iter().enumerate() {
                         let d = cover_dof(sim, mp.element, k, c);
                         if d != NO_DOF {
-                            f[d] += force[c] * mp.weights[k];
+                            f[d] += fc * mp.weights[k];
                         }
                     }
                 }

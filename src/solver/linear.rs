@@ -32,7 +32,16 @@ pub trait LinearSolver {
     fn symbolic_count(&self) -> usize;
 }
 
+/// faer runs sequentially: on these 2-core machines two threads were slower than one
+/// for sparse factorisations (`dependencies.md`), and for the small systems of block
+/// models the thread start-up dominates.
+fn sequential() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| faer::set_global_parallelism(faer::Par::Seq));
+}
+
 fn views(a: &SparseMatrix) -> SparseColMatRef<'_, usize, f64> {
+    sequential();
     let p = &a.pattern;
     let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx);
     SparseColMatRef::new(sym, &a.values)

@@ -2,3 +2,8 @@
 //! (`cases`), used by the integration tests at full size and by `nmm verify`.
 
 pub mod cases;
+
+/// The independent rigid-block reference (Newmark 1965), shared with the tests: it uses
+/// no `nmm` code.
+#[path = "../../tests/support/newmark_sliding.rs"]
+pub mod newmark_sliding;

@@ -33,6 +33,20 @@ enum Command {
     },
     /// Validate a model and print a summary (blocks, covers, elements, unknowns) without running it.
     Check { model: PathBuf },
+    /// Run the verification set against closed forms and references; write a report.
+    Verify {
+        /// Report folder (report.md and plots).
+        #[arg(long, value_name = "DIR", default_value = "verify-report")]
+        out: PathBuf,
+        /// The test suite's sizes instead of the quick ones.
+        #[arg(long)]
+        full: bool,
+    },
+    /// Draw the paper's Figure 4 (direct shear) and Figure 6 (shaking table) as PNG and SVG.
+    Figures {
+        #[arg(long, value_name = "DIR", default_value = "docs")]
+        out: PathBuf,
+    },
 }
 
 fn main() -> ExitCode {
@@ -45,6 +59,8 @@ fn main() -> ExitCode {
             no_vtk,
         } => run(&model, &out, friction.as_deref(), !no_vtk),
         Command::Check { model } => check(&model),
+        Command::Verify { out, full } => verify(&out, full),
+        Command::Figures { out } => figures(&out),
     };
     match result {
         Ok(code) => code,
@@ -146,6 +162,58 @@ fn run(path: &Path, out: &Path, friction: Option<&str>, vtk: bool) -> anyhow::Re
             out.display()
         );
         return Ok(ExitCode::from(130));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn verify(out: &Path, full: bool) -> anyhow::Result<ExitCode> {
+    use nmm::verify::report::{markdown, run, Size};
+    std::fs::create_dir_all(out).with_context(|| format!("{}", out.display()))?;
+    let size = if full { Size::Full } else { Size::Quick };
+    let t = std::time::Instant::now();
+    let cases = run(size, out);
+    let md = markdown(&cases, size, out);
+    let path = out.join("report.md");
+    std::fs::write(&path, md).with_context(|| format!("{}", path.display()))?;
+    for c in &cases {
+        eprintln!("{:<34} {}", c.name, if c.pass() { "pass" } else { "FAIL" });
+    }
+    let failed = cases.iter().filter(|c| !c.pass()).count();
+    eprintln!(
+        "{} passed, {failed} failed ({:.1} s); report: {}",
+        cases.len() - failed,
+        t.elapsed().as_secs_f64(),
+        path.display()
+    );
+    Ok(if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+fn figures(out: &Path) -> anyhow::Result<ExitCode> {
+    use nmm::verify::cases::{direct_shear, shaken_slope, RAMPED_5HZ};
+    use nmm::verify::report::{figure_direct_shear, figure_shaking_table};
+    std::fs::create_dir_all(out).with_context(|| format!("{}", out.display()))?;
+    let strength = 1.0e6 * 30f64.to_radians().tan();
+    let rm = direct_shear(1.0e6, 30.0, "return-mapping").map_err(anyhow::Error::msg)?;
+    let conv = direct_shear(1.0e6, 30.0, "conventional").map_err(anyhow::Error::msg)?;
+    let mut files = figure_direct_shear(&out.join("figure4_direct_shear"), &rm, &conv, strength)
+        .map_err(anyhow::Error::msg)?;
+    let rm = shaken_slope(30.0, &RAMPED_5HZ, "return-mapping").map_err(anyhow::Error::msg)?;
+    let conv = shaken_slope(30.0, &RAMPED_5HZ, "conventional").map_err(anyhow::Error::msg)?;
+    files.extend(
+        figure_shaking_table(
+            &out.join("figure6_shaking_table"),
+            &rm,
+            &conv,
+            "Shaking-table slope, θ = 30°",
+        )
+        .map_err(anyhow::Error::msg)?,
+    );
+    for f in files {
+        println!("{}", f.display());
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -2,6 +2,7 @@
 //! (`cases`), used by the integration tests at full size and by `nmm verify`.
 
 pub mod cases;
+pub mod report;
 
 /// The independent rigid-block reference (Newmark 1965), shared with the tests: it uses
 /// no `nmm` code.

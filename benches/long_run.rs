@@ -8,7 +8,12 @@ use nmm::verify::cases::{model, slope_model, SineMotion};
 use std::time::Instant;
 
 fn main() {
-    let motion = SineMotion { amplitude: 0.25 * 9.81, frequency: 2.0, ramp: 1.0, duration: 30.0 };
+    let motion = SineMotion {
+        amplitude: 0.25 * 9.81,
+        frequency: 2.0,
+        ramp: 1.0,
+        duration: 30.0,
+    };
     for algorithm in ["return-mapping", "conventional"] {
         let m = model(&slope_model(30.0, &motion, algorithm, 1e-3)).expect("model");
         let t = Instant::now();

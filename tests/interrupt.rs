@@ -9,25 +9,43 @@ fn sigint_keeps_every_output_written_so_far() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     // the shaking-table slope for 100 s of (zero) motion: far longer than the test waits
-    let model = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/shaking_table_slope.toml"))
-        .unwrap()
-        .replace("steps = 10000", "steps = 100000")
-        .replace("file = \"shaking_table_motion.csv\"", "table = [[0.0, 0.0, 0.0], [100.0, 0.0, 0.0]]");
+    let model = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/shaking_table_slope.toml"
+    ))
+    .unwrap()
+    .replace("steps = 10000", "steps = 100000")
+    .replace(
+        "file = \"shaking_table_motion.csv\"",
+        "table = [[0.0, 0.0, 0.0], [100.0, 0.0, 0.0]]",
+    );
     let path = dir.path().join("long.toml");
     std::fs::write(&path, model).unwrap();
     let mut child = Command::new(env!("CARGO_BIN_EXE_nmm"))
-        .args(["run", path.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
     // wait until some rows are written, then interrupt
     let hist = out.join("history.csv");
     let t0 = Instant::now();
-    while std::fs::read_to_string(&hist).map(|s| s.lines().count()).unwrap_or(0) < 50 {
+    while std::fs::read_to_string(&hist)
+        .map(|s| s.lines().count())
+        .unwrap_or(0)
+        < 50
+    {
         assert!(t0.elapsed() < Duration::from_secs(60), "no progress");
         std::thread::sleep(Duration::from_millis(20));
     }
-    let status = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
     assert!(status.success());
     let out_status = child.wait().unwrap();
     assert_eq!(out_status.code(), Some(130), "exit status");

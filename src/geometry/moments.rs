@@ -93,19 +93,10 @@ pub fn polygon_moments(poly: &[Vec2], origin: Vec2) -> PolygonMoments {
     m
 }
 
-/// Signed area of a polygon (positive if CCW), computed about its first vertex.
+/// Signed area of a polygon (positive if CCW), computed about its first vertex
+/// (the same as [`super::polygon::signed_area`]).
 pub fn polygon_area(poly: &[Vec2]) -> f64 {
-    let n = poly.len();
-    if n < 3 {
-        return 0.0;
-    }
-    let o = poly[0];
-    let mut a = 0.0;
-    for i in 1..n - 1 {
-        let (p, q) = (poly[i], poly[i + 1]);
-        a += (p[0] - o[0]) * (q[1] - o[1]) - (q[0] - o[0]) * (p[1] - o[1]);
-    }
-    0.5 * a
+    super::polygon::signed_area(poly)
 }
 
 /// ∫ f g ds along segment a→b, where `f` and `g` are linear with end values

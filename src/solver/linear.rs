@@ -54,35 +54,47 @@ fn same_pattern(cached: &Option<Arc<SparsePattern>>, p: &Arc<SparsePattern>) -> 
     }
 }
 
-/// Sparse Cholesky LLᵀ (faer, AMD ordering) for symmetric positive-definite matrices.
-#[derive(Default)]
-pub struct FaerCholesky {
+/// A factorisation that keeps its symbolic analysis while the pattern is unchanged.
+struct Cached<S, N> {
     pattern: Option<Arc<SparsePattern>>,
-    symbolic: Option<SymbolicLlt<usize>>,
-    numeric: Option<Llt<usize, f64>>,
+    symbolic: Option<S>,
+    numeric: Option<N>,
     symbolic_count: usize,
 }
 
-impl LinearSolver for FaerCholesky {
-    fn factorize(&mut self, a: &SparseMatrix) -> Result<(), SolveError> {
-        let m = views(a);
-        if !same_pattern(&self.pattern, &a.pattern) || self.symbolic.is_none() {
-            let s = SymbolicLlt::try_new(m.symbolic(), Side::Lower)
-                .map_err(|e| SolveError::Other(format!("{e:?}")))?;
-            self.symbolic = Some(s);
-            self.pattern = Some(a.pattern.clone());
-            self.symbolic_count += 1;
+impl<S, N> Default for Cached<S, N> {
+    fn default() -> Self {
+        Cached {
+            pattern: None,
+            symbolic: None,
+            numeric: None,
+            symbolic_count: 0,
         }
-        let sym = self
-            .symbolic
-            .clone()
-            .expect("symbolic factorisation present");
-        self.numeric = Some(
-            Llt::try_new_with_symbolic(sym, m, Side::Lower)
-                .map_err(|_| SolveError::NotPositiveDefinite)?,
-        );
+    }
+}
+
+impl<S: Clone, N: Solve<f64>> Cached<S, N> {
+    fn factorize(
+        &mut self,
+        a: &SparseMatrix,
+        analyse: impl FnOnce(SymbolicSparseColMatRef<'_, usize>) -> Result<S, SolveError>,
+        numeric: impl FnOnce(S, SparseColMatRef<'_, usize, f64>) -> Result<N, SolveError>,
+    ) -> Result<(), SolveError> {
+        let m = views(a);
+        let symbolic = match &self.symbolic {
+            Some(s) if same_pattern(&self.pattern, &a.pattern) => s.clone(),
+            _ => {
+                let s = analyse(m.symbolic())?;
+                self.symbolic = Some(s.clone());
+                self.pattern = Some(a.pattern.clone());
+                self.symbolic_count += 1;
+                s
+            }
+        };
+        self.numeric = Some(numeric(symbolic, m)?);
         Ok(())
     }
+
     fn solve_in_place(&self, b: &mut [f64]) -> Result<(), SolveError> {
         let f = self
             .numeric
@@ -92,48 +104,51 @@ impl LinearSolver for FaerCholesky {
         f.solve_in_place(MatMut::from_column_major_slice_mut(b, n, 1));
         check_finite(b)
     }
+}
+
+/// Sparse Cholesky LLᵀ (faer, AMD ordering) for symmetric positive-definite matrices.
+#[derive(Default)]
+pub struct FaerCholesky(Cached<SymbolicLlt<usize>, Llt<usize, f64>>);
+
+impl LinearSolver for FaerCholesky {
+    fn factorize(&mut self, a: &SparseMatrix) -> Result<(), SolveError> {
+        self.0.factorize(
+            a,
+            |m| {
+                SymbolicLlt::try_new(m, Side::Lower)
+                    .map_err(|e| SolveError::Other(format!("{e:?}")))
+            },
+            |s, m| {
+                Llt::try_new_with_symbolic(s, m, Side::Lower)
+                    .map_err(|_| SolveError::NotPositiveDefinite)
+            },
+        )
+    }
+    fn solve_in_place(&self, b: &mut [f64]) -> Result<(), SolveError> {
+        self.0.solve_in_place(b)
+    }
     fn symbolic_count(&self) -> usize {
-        self.symbolic_count
+        self.0.symbolic_count
     }
 }
 
 /// Sparse LU (faer, COLAMD ordering, partial pivoting) for unsymmetric matrices.
 #[derive(Default)]
-pub struct FaerLu {
-    pattern: Option<Arc<SparsePattern>>,
-    symbolic: Option<SymbolicLu<usize>>,
-    numeric: Option<Lu<usize, f64>>,
-    symbolic_count: usize,
-}
+pub struct FaerLu(Cached<SymbolicLu<usize>, Lu<usize, f64>>);
 
 impl LinearSolver for FaerLu {
     fn factorize(&mut self, a: &SparseMatrix) -> Result<(), SolveError> {
-        let m = views(a);
-        if !same_pattern(&self.pattern, &a.pattern) || self.symbolic.is_none() {
-            let s = SymbolicLu::try_new(m.symbolic())
-                .map_err(|e| SolveError::Other(format!("{e:?}")))?;
-            self.symbolic = Some(s);
-            self.pattern = Some(a.pattern.clone());
-            self.symbolic_count += 1;
-        }
-        let sym = self
-            .symbolic
-            .clone()
-            .expect("symbolic factorisation present");
-        self.numeric = Some(Lu::try_new_with_symbolic(sym, m).map_err(|_| SolveError::Singular)?);
-        Ok(())
+        self.0.factorize(
+            a,
+            |m| SymbolicLu::try_new(m).map_err(|e| SolveError::Other(format!("{e:?}"))),
+            |s, m| Lu::try_new_with_symbolic(s, m).map_err(|_| SolveError::Singular),
+        )
     }
     fn solve_in_place(&self, b: &mut [f64]) -> Result<(), SolveError> {
-        let f = self
-            .numeric
-            .as_ref()
-            .ok_or_else(|| SolveError::Other("solve before factorize".into()))?;
-        let n = b.len();
-        f.solve_in_place(MatMut::from_column_major_slice_mut(b, n, 1));
-        check_finite(b)
+        self.0.solve_in_place(b)
     }
     fn symbolic_count(&self) -> usize {
-        self.symbolic_count
+        self.0.symbolic_count
     }
 }
 
@@ -183,7 +198,7 @@ impl LinearSolver for AutoSolver {
         }
     }
     fn symbolic_count(&self) -> usize {
-        self.cholesky.symbolic_count + self.lu.symbolic_count
+        self.cholesky.symbolic_count() + self.lu.symbolic_count()
     }
 }
 

@@ -195,7 +195,17 @@ impl Discretisation {
         let len = dist(a, b);
         let tol = LOCATE_TOL * self.mesh.h;
         let sb = Aabb::of_points(&[a, b]).inflate(tol);
-        let cands: Vec<usize> = self.block_candidates(block, sb).collect();
+        // keep only the elements near the segment itself (a long oblique segment's box
+        // holds a large share of the block): centre within radius + tol of the segment
+        let near = |e: &usize| {
+            let p = &self.elements[*e].polygon;
+            let c = p.iter().fold([0.0, 0.0], |s, v| {
+                [s[0] + v[0] / p.len() as f64, s[1] + v[1] / p.len() as f64]
+            });
+            let r = p.iter().map(|v| dist(*v, c)).fold(0.0, f64::max);
+            crate::geometry::polygon::point_segment_distance(c, a, b) <= r + tol
+        };
+        let cands: Vec<usize> = self.block_candidates(block, sb).filter(near).collect();
         if len == 0.0 || cands.is_empty() {
             return Vec::new();
         }

@@ -405,3 +405,26 @@ fn keep_edge(p: &Vec2, b: &[Vec2], n_old: Vec2, search: f64) -> Option<VertexEdg
     }
     best
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A vertex exactly at a corner of B: the entrance edge is a tie; the edge with the
+    /// normal the contact had is kept.
+    #[test]
+    fn keep_edge_follows_the_previous_normal_at_a_corner() {
+        let b = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let corner = [1.0, 1.0 + 1e-6];
+        let top = keep_edge(&corner, &b, [0.0, 1.0], 1e-3).unwrap();
+        assert_eq!(top.segment, 2);
+        assert_eq!(top.normal, [0.0, 1.0]);
+        assert!((top.gap - 1e-6).abs() < 1e-12 && (top.xi - 0.0).abs() < 1e-12);
+        let side = keep_edge(&[1.0 + 1e-6, 1.0], &b, [1.0, 0.0], 1e-3).unwrap();
+        assert_eq!(side.segment, 1);
+        assert!((side.gap - 1e-6).abs() < 1e-12);
+        // beyond the search distance, or past the end of the edge: nothing kept
+        assert!(keep_edge(&[0.5, 1.1], &b, [0.0, 1.0], 1e-3).is_none());
+        assert!(keep_edge(&[1.5, 1.0], &b, [0.0, 1.0], 1e-3).is_none());
+    }
+}

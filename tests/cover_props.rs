@@ -1,5 +1,8 @@
 //! Property tests of the NMM discretisation (mesh, clipping, covers, elements, boundaries).
 
+#[path = "support/proptest_cases.rs"]
+mod proptest_cases;
+
 use nmm::cover::{discretise, discretise_on_mesh, Discretisation, MathMesh};
 use nmm::geometry::clip::Clipper;
 use nmm::geometry::moments::polygon_area;
@@ -136,6 +139,10 @@ fn check_all(
         if bd.vertices.iter().filter(|v| v.corner).count() != poly.len() {
             return Err(format!("block {b}: corner count"));
         }
+        // A dropped piece is small in every direction: its reach is a few MIN_PIECE_WIDTH · h.
+        if d.locate_tol > 1e-3 * h {
+            return Err(format!("locate_tol {} h is not small", d.locate_tol / h));
+        }
         for i in 0..m {
             let v = &bd.vertices[i];
             if d.elements[v.at.element].block != b
@@ -143,10 +150,8 @@ fn check_all(
             {
                 return Err(format!("block {b}: boundary vertex {i} material point"));
             }
-            // within the width of a dropped sliver (2 × MIN_PIECE_WIDTH · h)
-            if dist_to_poly(&d.elements[v.at.element].polygon, v.x0)
-                > 2.0 * nmm::cover::MIN_PIECE_WIDTH * h
-            {
+            // within the reach of a dropped piece (`locate_tol`, itself small: checked above)
+            if dist_to_poly(&d.elements[v.at.element].polygon, v.x0) > d.locate_tol {
                 return Err(format!("block {b}: boundary vertex {i} not in its element"));
             }
             let e = bd.segment_elements[i];
@@ -154,9 +159,7 @@ fn check_all(
             let poly_e = &d.elements[e].polygon;
             for x in [p, q, [0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])]] {
                 // within the width of a dropped sliver (split points closer than 1e-9 h are merged)
-                if d.elements[e].block != b
-                    || dist_to_poly(poly_e, x) > 2.0 * nmm::cover::MIN_PIECE_WIDTH * h + 2e-9 * h
-                {
+                if d.elements[e].block != b || dist_to_poly(poly_e, x) > d.locate_tol + 2e-9 * h {
                     return Err(format!("block {b}: segment {i} not in element {e}"));
                 }
             }
@@ -274,7 +277,7 @@ fn samples(bb: Aabb, seed: &[f64]) -> Vec<Vec2> {
 // ---------- property tests ----------
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, .. ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: proptest_cases::cases(48), .. ProptestConfig::default() })]
 
     #[test]
     fn random_star_blocks_discretise_consistently(

@@ -3,6 +3,9 @@
 //! and CSV: values, units, time axis, components, every error naming the file
 //! and line, and no panic on random or mutated input.
 
+#[path = "support/proptest_cases.rs"]
+mod proptest_cases;
+
 use nmm::motion::read_record;
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
@@ -481,7 +484,7 @@ fn mutate(mut text: Vec<u8>, edits: &[(usize, u8, u8)]) -> Vec<u8> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(200))]
+    #![proptest_config(ProptestConfig::with_cases(proptest_cases::cases(200)))]
 
     #[test]
     fn random_bytes_never_panic(bytes in prop::collection::vec(interesting_byte(), 0..600)) {

@@ -18,7 +18,11 @@
 //!    width 1e-12 h put errors of 1e-3 in its stress. Dropped, they remove at most
 //!    1e-5 h × perimeter from a block's area (and mass and weight), and the neighbouring
 //!    element carries the boundary (its weights extend linearly over the gap, exactly
-//!    for a linear field).
+//!    for a linear field). A dropped piece need not be a strip: the tip of a block corner
+//!    a few 1e-5 h across a mesh line is small in every direction. Point searches
+//!    therefore accept elements up to `Discretisation::locate_tol`, which adds the
+//!    largest *reach* of a dropped piece (distance from its vertices to its part of the
+//!    triangle's edges) to `2 · MIN_PIECE_WIDTH · h`.
 //!    `tests/elastic_patch.rs` checks the patch test to 1e-8 with edges 1e-12 h … 1e-3 h
 //!    from mesh lines.
 //!
@@ -44,6 +48,7 @@ use super::{
 };
 use crate::geometry::clip::Clipper;
 use crate::geometry::moments::polygon_area;
+use crate::geometry::polygon::point_segment_distance;
 use crate::geometry::{Aabb, Vec2};
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -104,6 +109,7 @@ pub fn discretise_on_mesh(
             )));
         }
     }
+    let mb_h = mesh.h;
     let clipper = Clipper::new(mb).map_err(|e| DiscretiseError(format!("clipper: {e}")))?;
 
     let mut d = Discretisation {
@@ -113,6 +119,7 @@ pub fn discretise_on_mesh(
         block_elements: Vec::with_capacity(blocks.len()),
         boundaries: Vec::with_capacity(blocks.len()),
         n_dofs: 0,
+        locate_tol: super::LOCATE_TOL * mb_h,
     };
     for (b, (poly, _)) in blocks.iter().enumerate() {
         build_block(&mut d, &clipper, b, poly)?;
@@ -374,6 +381,8 @@ fn build_block(
                 let mut cnt = 0u16;
                 for piece in pieces {
                     if piece_width(&piece) < min_width {
+                        let reach = dropped_reach(&tri, &piece, h);
+                        d.locate_tol = d.locate_tol.max(super::LOCATE_TOL * h + reach);
                         continue;
                     }
                     cov.push(edge_coverage(&tri, &piece, h, &mut intervals));
@@ -574,7 +583,6 @@ pub(crate) fn distance_to_polygon(poly: &[Vec2], x: Vec2) -> f64 {
     }
 }
 
-/// Nearest element of the block (through the triangle map) to `x`.
 /// Width of a piece: area / half-perimeter (δ for a strip of width δ).
 fn piece_width(poly: &[Vec2]) -> f64 {
     let n = poly.len();
@@ -589,9 +597,49 @@ fn piece_width(poly: &[Vec2]) -> f64 {
     }
 }
 
+/// Reach of a dropped piece of triangle `tri`: an upper bound on the distance from a
+/// point of its block-edge boundary to the *joins*, the parts of its boundary lying on
+/// the triangle's edges (where the rest of the block continues into the neighbouring
+/// triangles). Along a block-edge segment pq, the distance to one join J is convex, so
+/// it is at most max(d(p, J), d(q, J)); the distance to the nearest join is also at most
+/// (d(p) + d(q) + |pq|) / 2. The smaller of the two bounds is taken, segment by segment.
+/// Interior points are within the piece's width (< `MIN_PIECE_WIDTH · h`) of its
+/// boundary. A piece with no join (a whole block inside one triangle) reaches its own
+/// diameter.
+fn dropped_reach(tri: &[Vec2; 3], piece: &[Vec2], h: f64) -> f64 {
+    let m = piece.len();
+    let dtol = EDGE_TOL * h;
+    let on_edge = |p: Vec2, k: usize| point_segment_distance(p, tri[k], tri[(k + 1) % 3]) <= dtol;
+    let is_join = |p: Vec2, q: Vec2| (0..3).any(|k| on_edge(p, k) && on_edge(q, k));
+    let segments = (0..m).map(|i| (piece[i], piece[(i + 1) % m]));
+    let joins: Vec<(Vec2, Vec2)> = segments.clone().filter(|&(p, q)| is_join(p, q)).collect();
+    if joins.is_empty() {
+        return Aabb::of_points(piece).diagonal();
+    }
+    let to_join = |x: Vec2, j: &(Vec2, Vec2)| point_segment_distance(x, j.0, j.1);
+    let to_joins = |x: Vec2| {
+        joins
+            .iter()
+            .map(|j| to_join(x, j))
+            .fold(f64::INFINITY, f64::min)
+    };
+    segments
+        .filter(|&(p, q)| !is_join(p, q))
+        .map(|(p, q)| {
+            let per_join = joins
+                .iter()
+                .map(|j| to_join(p, j).max(to_join(q, j)))
+                .fold(f64::INFINITY, f64::min);
+            let along = 0.5 * (to_joins(p) + to_joins(q) + crate::geometry::dist(p, q));
+            per_join.min(along)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Nearest element of the block (through the triangle map) to `x`, within
+/// `d.locate_tol` (a boundary point may lie in a dropped piece).
 fn nearest_element(d: &Discretisation, map: &TriMap, x: Vec2) -> Option<usize> {
-    // a boundary point may lie in a dropped sliver: search twice its width
-    let tol = 2.0 * MIN_PIECE_WIDTH * d.mesh.h;
+    let tol = d.locate_tol;
     let bx = Aabb { min: x, max: x }.inflate(tol);
     let mut best: Option<(f64, usize)> = None;
     for t in d.mesh.triangles_overlapping(&bx) {
@@ -699,6 +747,34 @@ mod tests {
         assert_eq!(bd.vertices.len(), bd.segment_elements.len());
         assert_eq!(bd.vertices.iter().filter(|v| v.corner).count(), 4);
     }
+
+    /// A corner 3.8e-5 h across a vertical mesh line: the piece beyond the line is small in
+    /// every direction (width < 1e-5 h, so dropped), yet the corner is farther than
+    /// 2e-5 h from the kept elements. The boundary and point searches must still find it.
+    #[test]
+    fn corner_tip_just_across_a_mesh_line() {
+        let h = 0.25;
+        let mesh = MathMesh {
+            origin: [-1.0, -1.0],
+            h,
+            nx: 12,
+            ny: 12,
+        };
+        let tip = [0.5 + 3.8e-5 * h, 0.3];
+        let wedge = vec![[-0.5, 0.0], [0.2, 0.2], tip, [0.2, 0.4], [-0.5, 0.55]];
+        let d = discretise_on_mesh(&[(wedge, false)], mesh).unwrap();
+        assert!(d.locate_tol > LOCATE_TOL_TEST * h, "a piece was dropped");
+        assert!(d.locate_tol < 1e-4 * h);
+        let mp = d.locate(0, tip).expect("tip located");
+        let e = &d.elements[mp.element];
+        let back = [
+            (0..3).map(|k| mp.weights[k] * e.nodes[k][0]).sum::<f64>(),
+            (0..3).map(|k| mp.weights[k] * e.nodes[k][1]).sum::<f64>(),
+        ];
+        assert!(crate::geometry::dist(back, tip) < 1e-12);
+        assert!(d.boundaries[0].vertices.iter().any(|v| v.x0 == tip));
+    }
+    const LOCATE_TOL_TEST: f64 = super::super::LOCATE_TOL;
 
     #[test]
     fn fixed_blocks_have_no_dofs() {

@@ -3,9 +3,10 @@
 //! * [`Discretisation::locate`]: the element of a block containing a point, on the
 //!   *current* element polygons (they move with the material), boundary-tolerant: the
 //!   element whose closed polygon is nearest to the point is chosen, and accepted if that
-//!   distance is at most `LOCATE_TOL · h` (`2e-5 h`: twice the width of the slivers that
-//!   discretisation drops), so points on the block boundary
-//!   (or within round-off of it) are found.
+//!   distance is at most `Discretisation::locate_tol` (`LOCATE_TOL · h` = 2e-5 h, twice
+//!   the width of the slivers that discretisation drops, plus the largest reach of a
+//!   dropped piece), so points on the block boundary (or within round-off of it, or in a
+//!   dropped piece) are found.
 //! * [`Discretisation::boundary_pieces`]: splits a segment a→b lying on (or inside) a
 //!   block into pieces each inside one element, returning each piece's end points as
 //!   material points and its length.
@@ -54,7 +55,7 @@ impl ElementIndex {
         let bbox = boxes
             .iter()
             .fold(Aabb::empty(), |a, b| a.merge(b))
-            .inflate(LOCATE_TOL * d.mesh.h);
+            .inflate(d.locate_tol);
         let cell = d.mesh.h;
         let (nx, ny) = if elems.is_empty() {
             (1, 1)
@@ -139,7 +140,7 @@ impl ElementIndex {
 
     /// Like [`Discretisation::locate`], through the index.
     pub fn locate(&self, d: &Discretisation, x: Vec2) -> Option<MaterialPoint> {
-        let tol = LOCATE_TOL * d.mesh.h;
+        let tol = d.locate_tol;
         d.nearest_of(self.candidates(&Aabb { min: x, max: x }.inflate(tol)), x)
     }
 }
@@ -147,7 +148,7 @@ impl ElementIndex {
 impl Discretisation {
     /// Nearest (within tolerance) of the given elements to x, as a material point.
     fn nearest_of(&self, cands: impl Iterator<Item = usize>, x: Vec2) -> Option<MaterialPoint> {
-        let tol = LOCATE_TOL * self.mesh.h;
+        let tol = self.locate_tol;
         let mut best: Option<(f64, usize)> = None;
         for e in cands {
             let dd = distance_to_polygon(&self.elements[e].polygon, x);
@@ -176,7 +177,7 @@ impl Discretisation {
     /// The element of `block` containing `x` on the current geometry, as a material point
     /// (see module doc for the boundary tolerance). `None` if x is not in the block.
     pub fn locate(&self, block: usize, x: Vec2) -> Option<MaterialPoint> {
-        let tol = LOCATE_TOL * self.mesh.h;
+        let tol = self.locate_tol;
         self.nearest_of(
             self.block_candidates(block, Aabb { min: x, max: x }.inflate(tol)),
             x,
@@ -193,7 +194,7 @@ impl Discretisation {
         b: Vec2,
     ) -> Vec<(MaterialPoint, MaterialPoint, f64)> {
         let len = dist(a, b);
-        let tol = LOCATE_TOL * self.mesh.h;
+        let tol = self.locate_tol;
         let sb = Aabb::of_points(&[a, b]).inflate(tol);
         // keep only the elements near the segment itself (a long oblique segment's box
         // holds a large share of the block): centre within radius + tol of the segment

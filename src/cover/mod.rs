@@ -120,4 +120,10 @@ pub struct Discretisation {
     pub boundaries: Vec<BlockBoundary>,
     /// Number of global unknowns.
     pub n_dofs: usize,
+    /// Distance within which every point of a block has an element of that block:
+    /// `LOCATE_TOL · h` plus the largest *reach* of a dropped piece (how far a dropped
+    /// piece extends from the triangle edges through which it joins the rest of the
+    /// block; ≤ its width for a sliver along a mesh line, a few 1e-5 h for the tip of a
+    /// block corner just across a mesh line). Point searches accept elements this close.
+    pub locate_tol: f64,
 }

@@ -6,13 +6,16 @@
 //! The full format is documented in `docs/model-format.md`.
 //!
 //! Pipeline: the text is parsed into a generic TOML tree (syntax errors carry
-//! line and column); [`reader`] gives typed, finite, located access to its
+//! line and column) and, for the line numbers of tables and keys in later
+//! errors, into a span-keeping `toml_edit` document ([`lines`]);
+//! [`reader`] gives typed, finite, located access to its
 //! values and refuses unknown keys; [`validate`] checks ranges, resolves
 //! names to indices, checks the geometry (simple, non-degenerate,
 //! non-overlapping polygons re-oriented counter-clockwise; load and
 //! constraint segments on block boundaries) at the tolerance
 //! `1e-9 × (bounding-box diagonal of all blocks)`.
 
+mod lines;
 mod reader;
 mod types;
 mod validate;
@@ -44,7 +47,7 @@ pub fn parse_model(text: &str, base_dir: &Path) -> Result<Model, ModelError> {
 pub fn parse_model_named(text: &str, base_dir: &Path, source: &str) -> Result<Model, ModelError> {
     let root: toml::Table =
         toml::from_str(text).map_err(|e| reader::syntax_error(source, text, &e))?;
-    validate::build(&root, base_dir)
+    validate::build(&lines::Doc::new(&root, source, text), base_dir)
 }
 
 #[cfg(test)]

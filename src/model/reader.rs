@@ -144,6 +144,8 @@ pub(crate) fn segment(v: &Value) -> Result<(Vec2, Vec2), String> {
 pub(crate) struct Fields<'a> {
     place: String,
     table: &'a Table,
+    /// Where the table is written: (document, top-level key, index in its array).
+    at: Option<(&'a super::lines::Doc<'a>, &'static str, Option<usize>)>,
 }
 
 impl<'a> Fields<'a> {
@@ -151,6 +153,26 @@ impl<'a> Fields<'a> {
         Fields {
             place: place.into(),
             table,
+            at: None,
+        }
+    }
+
+    /// Errors about this table will name its line in `doc`.
+    pub fn located(
+        mut self,
+        doc: &'a super::lines::Doc<'a>,
+        top: &'static str,
+        index: Option<usize>,
+    ) -> Self {
+        self.at = Some((doc, top, index));
+        self
+    }
+
+    /// ` (FILE, line N)` of `key` (or of the table's header), or nothing.
+    fn line(&self, key: Option<&str>) -> String {
+        match self.at {
+            Some((doc, top, index)) => doc.at(top, index, key),
+            None => String::new(),
         }
     }
 
@@ -162,10 +184,11 @@ impl<'a> Fields<'a> {
     pub fn deny_unknown(&self, allowed: &[&str]) -> R<()> {
         match self.table.keys().find(|k| !allowed.contains(&k.as_str())) {
             Some(k) => Err(error(format!(
-                "{}: unknown key `{}` (allowed: {})",
+                "{}: unknown key `{}` (allowed: {}){}",
                 self.place,
                 k.escape_debug(),
-                allowed.join(", ")
+                allowed.join(", "),
+                self.line(Some(k))
             ))),
             None => Ok(()),
         }
@@ -173,12 +196,17 @@ impl<'a> Fields<'a> {
 
     /// An error about this table as a whole.
     pub fn fail(&self, msg: impl std::fmt::Display) -> ModelError {
-        error(format!("{}: {msg}", self.place))
+        error(format!("{}: {msg}{}", self.place, self.line(None)))
     }
 
     /// An error about one key.
     pub fn err(&self, key: &str, msg: impl std::fmt::Display) -> ModelError {
-        error(format!("{}: key `{key}`: {msg}", self.place))
+        // a missing key is reported at its table's header
+        let line = match self.table.contains_key(key) {
+            true => self.line(Some(key)),
+            false => self.line(None),
+        };
+        error(format!("{}: key `{key}`: {msg}{line}", self.place))
     }
 
     pub fn has(&self, key: &str) -> bool {

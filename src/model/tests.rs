@@ -10,8 +10,22 @@ fn parse(text: &str) -> Result<Model, ModelError> {
     parse_model(text, Path::new("."))
 }
 
+/// The message without its location suffix ` (model.toml, line N)` (checked on its own
+/// in `errors_name_their_line`).
+fn without_line(e: String) -> String {
+    match e.rfind(" (model.toml, line ") {
+        Some(i) if e.ends_with(')') => e[..i].to_string(),
+        _ => e,
+    }
+}
+
 /// Parse `EXAMPLE` with `from` replaced by `to` (which must occur) and return the error.
 fn err_with(from: &str, to: &str) -> String {
+    without_line(err_with_line(from, to))
+}
+
+/// As [`err_with`], with the location.
+fn err_with_line(from: &str, to: &str) -> String {
     assert!(EXAMPLE.contains(from), "{from:?} not in the example");
     match parse(&EXAMPLE.replacen(from, to, 1)) {
         Ok(_) => panic!("{from:?} -> {to:?} was accepted"),
@@ -23,7 +37,61 @@ fn err_with(from: &str, to: &str) -> String {
 fn err_plus(extra: &str) -> String {
     match parse(&format!("{EXAMPLE}\n{extra}")) {
         Ok(_) => panic!("{extra:?} was accepted"),
-        Err(e) => e.0,
+        Err(e) => without_line(e.0),
+    }
+}
+
+#[test]
+fn errors_name_their_line() {
+    // (edit of tests/data/example.toml, expected message end)
+    let cases = [
+        (
+            "dt = 0.001",
+            "dt = -0.001",
+            "got -0.001 (model.toml, line 3)",
+        ),
+        (
+            "steps = 3000\n",
+            "",
+            "`steps`: missing (required) (model.toml, line 1)",
+        ),
+        ("size = 0.05", "size = 0.0", "got 0 (model.toml, line 10)"),
+        (
+            "young = 7.0e9",
+            "young = -7.0e9",
+            "got -7000000000 (model.toml, line 15)",
+        ),
+        ("poisson = 0.33", "poissons = 0.33", "(model.toml, line 16)"),
+        (
+            "vertices = [[0.0, 1.0], [0.0, 1.5], [1.0, 1.5], [1.0, 1.0]]",
+            "vertices = [[0.0, 1.0], [1.0, 1.5], [0.0, 1.5], [1.0, 1.0]]",
+            "self-intersects (edges 1 and 3) (model.toml, line 27)",
+        ),
+        (
+            "vertices = [[1.2, 1.0], [2.0, 1.0], [2.0, 1.5], [1.2, 1.5]]",
+            "vertices = [[0.9, 1.0], [2.0, 1.0], [2.0, 1.5], [0.9, 1.5]]",
+            "overlaps block \"slider\" (blocks may touch but not overlap) (model.toml, line 32)",
+        ),
+        (
+            "blocks = [\"base\", \"slider\"]",
+            "blocks = [\"base\", \"slab\"]",
+            "(model.toml, line 40)",
+        ),
+        (
+            "edge = [[0.0, 1.5], [1.0, 1.5]]",
+            "edge = [[0.0, 1.4], [1.0, 1.4]]",
+            "(model.toml, line 48)",
+        ),
+        ("uy = 0.0", "uy = nan", "(model.toml, line 55)"),
+        (
+            "point = [1.5, 1.2]",
+            "point = [1.1, 1.2]",
+            "(model.toml, line 62)",
+        ),
+    ];
+    for (from, to, end) in cases {
+        let e = err_with_line(from, to);
+        assert!(e.ends_with(end), "{from:?} -> {to:?}: {e}");
     }
 }
 

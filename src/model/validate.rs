@@ -10,6 +10,7 @@
 
 // `!(x > tol)` is deliberate throughout: a NaN fails the test.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+use super::lines::Doc;
 use super::reader::{
     array, array_of_tables, boolean, error, fmt_num, fmt_point, integer, number, pair, point,
     points, segment, string, table, Fields, R,
@@ -21,7 +22,7 @@ use crate::geometry::polygon::{
 };
 use crate::geometry::{Aabb, Vec2};
 use std::collections::{HashMap, HashSet};
-use toml::{Table, Value};
+use toml::Value;
 
 /// Relative geometric tolerance (× model size).
 pub const REL_TOL: f64 = 1e-9;
@@ -39,12 +40,13 @@ const TOP_KEYS: &[&str] = &[
 ];
 
 /// Validate the whole tree. `base_dir` resolves `[base_motion] file`.
-pub(crate) fn build(root: &Table, base_dir: &Path) -> R<Model> {
+pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
     if let Some(k) = root.keys().find(|k| !TOP_KEYS.contains(&k.as_str())) {
         return Err(error(format!(
-            "top level: unknown key `{}` (allowed tables: {})",
+            "top level: unknown key `{}` (allowed tables: {}){}",
             k.escape_debug(),
-            TOP_KEYS.join(", ")
+            TOP_KEYS.join(", "),
+            root.at_top(k)
         )));
     }
     let analysis = analysis(root)?;
@@ -52,7 +54,7 @@ pub(crate) fn build(root: &Table, base_dir: &Path) -> R<Model> {
     let materials = materials(root)?;
     let mut blocks = blocks(root, &materials)?;
     let tol = model_tolerance(&blocks);
-    check_polygons(&mut blocks, tol)?;
+    check_polygons(root, &mut blocks, tol)?;
     let names: HashMap<&str, usize> = blocks
         .iter()
         .enumerate()
@@ -121,10 +123,10 @@ fn choice<'a>(f: &Fields, key: &str, allowed: &[&'a str], default: &'a str) -> R
     }
 }
 
-fn analysis(root: &Table) -> R<Analysis> {
+fn analysis(root: &Doc) -> R<Analysis> {
     let t = table(root, "analysis")?
         .ok_or_else(|| error("[analysis]: missing table (keys `dt` and `steps` are required)"))?;
-    let f = Fields::new("[analysis]", t);
+    let f = root.fields("[analysis]", t, "analysis", None);
     f.deny_unknown(&[
         "mode",
         "dt",
@@ -182,18 +184,18 @@ fn analysis(root: &Table) -> R<Analysis> {
     })
 }
 
-fn cover(root: &Table) -> R<f64> {
+fn cover(root: &Doc) -> R<f64> {
     let t = table(root, "cover")?
         .ok_or_else(|| error("[cover]: missing table (key `size` is required)"))?;
-    let f = Fields::new("[cover]", t);
+    let f = root.fields("[cover]", t, "cover", None);
     f.deny_unknown(&["size"])?;
     positive(&f, "size", f.req("size", number)?)
 }
 
-fn materials(root: &Table) -> R<Vec<Material>> {
+fn materials(root: &Doc) -> R<Vec<Material>> {
     let mut out: Vec<Material> = Vec::new();
     for (i, t) in array_of_tables(root, "material")?.into_iter().enumerate() {
-        let mut f = Fields::new(format!("[[material]] #{}", i + 1), t);
+        let mut f = root.fields(format!("[[material]] #{}", i + 1), t, "material", Some(i));
         let name = f.name("name")?;
         f.set_place(format!("[[material]] {name:?}"));
         f.deny_unknown(&["name", "density", "young", "poisson", "plane"])?;
@@ -228,14 +230,14 @@ fn materials(root: &Table) -> R<Vec<Material>> {
 }
 
 /// Read the blocks (names, materials, vertex lists); geometry is checked later.
-fn blocks(root: &Table, materials: &[Material]) -> R<Vec<Block>> {
+fn blocks(root: &Doc, materials: &[Material]) -> R<Vec<Block>> {
     let tables = array_of_tables(root, "block")?;
     if tables.is_empty() {
         return Err(error("[[block]]: the model defines no block"));
     }
     let mut out: Vec<Block> = Vec::new();
     for (i, t) in tables.into_iter().enumerate() {
-        let mut f = Fields::new(format!("[[block]] #{}", i + 1), t);
+        let mut f = root.fields(format!("[[block]] #{}", i + 1), t, "block", Some(i));
         let name = f.name("name")?;
         f.set_place(format!("[[block]] {name:?}"));
         f.deny_unknown(&["name", "material", "vertices", "fixed"])?;
@@ -273,9 +275,10 @@ fn blocks(root: &Table, materials: &[Material]) -> R<Vec<Block>> {
 
 /// Check every polygon (degeneracy, self-intersection), orient it CCW, and
 /// check that no two blocks overlap.
-fn check_polygons(blocks: &mut [Block], tol: f64) -> R<()> {
-    for b in blocks.iter_mut() {
-        let err = |msg: String| error(format!("[[block]] {:?}: key `vertices`: {msg}", b.name));
+fn check_polygons(root: &Doc, blocks: &mut [Block], tol: f64) -> R<()> {
+    for (i, b) in blocks.iter_mut().enumerate() {
+        let at = root.at("block", Some(i), Some("vertices"));
+        let err = |msg: String| error(format!("[[block]] {:?}: key `vertices`: {msg}{at}", b.name));
         let n = b.vertices.len();
         // A zero area is reported after self-intersection (a symmetric bow-tie has zero area).
         let degenerate = degeneracy(&b.vertices, tol);
@@ -326,8 +329,10 @@ fn check_polygons(blocks: &mut [Block], tol: f64) -> R<()> {
                 && polygons_overlap(&blocks[i].vertices, &blocks[j].vertices, tol)
             {
                 return Err(error(format!(
-                    "[[block]] {:?}: key `vertices`: overlaps block {:?} (blocks may touch but not overlap)",
-                    blocks[j].name, blocks[i].name
+                    "[[block]] {:?}: key `vertices`: overlaps block {:?} (blocks may touch but not overlap){}",
+                    blocks[j].name,
+                    blocks[i].name,
+                    root.at("block", Some(j), Some("vertices"))
                 )));
             }
         }
@@ -368,12 +373,12 @@ fn block_pair(f: &Fields, key: &str, names: &HashMap<&str, usize>) -> R<(usize, 
     Ok((ia, ib))
 }
 
-fn interfaces(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>) -> R<Vec<Interface>> {
+fn interfaces(root: &Doc, blocks: &[Block], names: &HashMap<&str, usize>) -> R<Vec<Interface>> {
     let mut out = Vec::new();
     let mut default_at: Option<usize> = None;
     let mut pairs: HashMap<(usize, usize), usize> = HashMap::new();
     for (k, t) in array_of_tables(root, "interface")?.into_iter().enumerate() {
-        let mut f = Fields::new(format!("[[interface]] #{}", k + 1), t);
+        let mut f = root.fields(format!("[[interface]] #{}", k + 1), t, "interface", Some(k));
         f.deny_unknown(&[
             "blocks",
             "friction_angle",
@@ -498,10 +503,10 @@ fn owner_block(f: &mut Fields, kind: &str, k: usize, names: &HashMap<&str, usize
     block_ref(f, "block", name, names)
 }
 
-fn loads(root: &Table, blocks: &[Block], names: &HashMap<&str, usize>, tol: f64) -> R<Vec<Load>> {
+fn loads(root: &Doc, blocks: &[Block], names: &HashMap<&str, usize>, tol: f64) -> R<Vec<Load>> {
     let mut out = Vec::new();
     for (k, t) in array_of_tables(root, "load")?.into_iter().enumerate() {
-        let mut f = Fields::new(format!("[[load]] #{}", k + 1), t);
+        let mut f = root.fields(format!("[[load]] #{}", k + 1), t, "load", Some(k));
         let bi = owner_block(&mut f, "load", k, names)?;
         f.deny_unknown(&["block", "edge", "traction", "point", "force"])?;
         let block = &blocks[bi];
@@ -582,14 +587,19 @@ fn time_function(v: &Value) -> Result<TimeFunction, String> {
 }
 
 fn constraints(
-    root: &Table,
+    root: &Doc,
     blocks: &[Block],
     names: &HashMap<&str, usize>,
     tol: f64,
 ) -> R<Vec<Constraint>> {
     let mut out = Vec::new();
     for (k, t) in array_of_tables(root, "constraint")?.into_iter().enumerate() {
-        let mut f = Fields::new(format!("[[constraint]] #{}", k + 1), t);
+        let mut f = root.fields(
+            format!("[[constraint]] #{}", k + 1),
+            t,
+            "constraint",
+            Some(k),
+        );
         let bi = owner_block(&mut f, "constraint", k, names)?;
         f.deny_unknown(&["block", "edge", "point", "ux", "uy"])?;
         let block = &blocks[bi];
@@ -622,11 +632,11 @@ fn constraints(
     Ok(out)
 }
 
-fn base_motion(root: &Table, base_dir: &Path) -> R<Option<BaseMotion>> {
+fn base_motion(root: &Doc, base_dir: &Path) -> R<Option<BaseMotion>> {
     let Some(t) = table(root, "base_motion")? else {
         return Ok(None);
     };
-    let f = Fields::new("[base_motion]", t);
+    let f = root.fields("[base_motion]", t, "base_motion", None);
     f.deny_unknown(&["table", "file", "format", "component", "scale"])?;
     let component = choice(&f, "component", &["x", "y"], "x")?;
     let scale = f.opt("scale", number)?.unwrap_or(1.0);
@@ -731,7 +741,7 @@ fn check_samples(s: &[[f64; 3]]) -> Result<(), String> {
 }
 
 fn monitors(
-    root: &Table,
+    root: &Doc,
     blocks: &[Block],
     names: &HashMap<&str, usize>,
     tol: f64,
@@ -739,7 +749,7 @@ fn monitors(
     let mut out: Vec<Monitor> = Vec::new();
     let mut seen: HashSet<String> = HashSet::new();
     for (k, t) in array_of_tables(root, "monitor")?.into_iter().enumerate() {
-        let mut f = Fields::new(format!("[[monitor]] #{}", k + 1), t);
+        let mut f = root.fields(format!("[[monitor]] #{}", k + 1), t, "monitor", Some(k));
         let name = f.name("name")?;
         f.set_place(format!("[[monitor]] {name:?}"));
         f.deny_unknown(&["name", "point", "interface"])?;

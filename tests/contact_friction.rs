@@ -2,7 +2,9 @@
 //! algorithms, a block sliding on an incline, a stack and a wall settling under
 //! gravity, and Newton's convergence.
 
-use nmm::verify::cases::{direct_shear, incline, median, settle, stack_blocks, wall_blocks};
+use nmm::verify::cases::{
+    direct_shear, incline, median, settle, stack_blocks, wall_blocks, wall_courses,
+};
 
 const CASES: [(f64, f64); 3] = [(1.0e6, 30.0), (0.5e6, 20.0), (2.0e6, 15.0)];
 
@@ -121,6 +123,15 @@ fn stack_of_blocks_settles_to_rest() {
 #[test]
 fn masonry_wall_settles_to_rest() {
     check_settled("wall", &wall_blocks());
+}
+
+/// A taller wall (eight courses, 36 bricks) whose joints all just touch at
+/// the start. Before the closed-contact predictor (`ContactSet::evaluate`), the first
+/// Newton direction was a free fall and from six courses up step 1 did not converge
+/// even after six halvings of Δt.
+#[test]
+fn tall_wall_with_touching_joints_settles() {
+    check_settled("eight-course wall", &wall_courses(8));
 }
 
 /// Direct shear with return mapping: the tangent is unsymmetric while contacts slide.

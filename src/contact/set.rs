@@ -105,6 +105,8 @@ pub struct ContactSet {
     committed: HashMap<ContactKey, (ShearHistory, Vec2)>,
     algorithm: Option<FrictionAlgorithm>,
     last_status: Vec<ContactStatus>,
+    /// Gaps up to this count as touching (`REL_TOL` × the model's size).
+    touch_tol: f64,
 }
 
 fn status_code(s: ContactStatus) -> u8 {
@@ -112,6 +114,35 @@ fn status_code(s: ContactStatus) -> u8 {
         ContactStatus::Open => 0,
         ContactStatus::Stick => 1,
         ContactStatus::Slide => 2,
+    }
+}
+
+/// Adds one contact's tangent K_c = b_N (a b_N + b b_S)ᵀ + b_S (c b_N + d b_S)ᵀ with
+/// `[a, b, c, d]` = [∂t_N/∂g_N, ∂t_N/∂g_S, ∂t_S/∂g_N, ∂t_S/∂g_S].
+fn add_tangent(
+    j: &mut SparseMatrix,
+    dofs: &[usize; 12],
+    bn: &[f64; 12],
+    bs: &[f64; 12],
+    [a, b, c, d]: [f64; 4],
+) {
+    for jj in 0..12 {
+        let cj = dofs[jj];
+        if cj == NO_DOF {
+            continue;
+        }
+        let vn = a * bn[jj] + b * bs[jj];
+        let vs = c * bn[jj] + d * bs[jj];
+        for ii in 0..12 {
+            let ri = dofs[ii];
+            if ri == NO_DOF {
+                continue;
+            }
+            let v = bn[ii] * vn + bs[ii] * vs;
+            if v != 0.0 {
+                j.add(ri, cj, v);
+            }
+        }
     }
 }
 
@@ -147,6 +178,11 @@ impl ContactSet {
             .iter()
             .map(|p| Aabb::of_points(p).inflate(search))
             .collect();
+        let size = boxes
+            .iter()
+            .fold(Aabb::empty(), |a, b| a.merge(b))
+            .diagonal();
+        self.touch_tol = crate::model::REL_TOL * size;
         let mut pairs = sweep_and_prune(&boxes);
         pairs.sort_unstable();
         for (a, b) in pairs {
@@ -216,7 +252,7 @@ impl ContactSet {
                         cohesion: iface.cohesion * trib,
                     };
                     let mut history = self.committed.get(&key).map(|c| c.0).unwrap_or_default();
-                    if history.status == ContactStatus::Open && ve.gap <= 0.0 {
+                    if history.status == ContactStatus::Open && ve.gap <= self.touch_tol {
                         // touching at the start of the step: an elastic shear spring from here
                         history = ShearHistory {
                             status: ContactStatus::Stick,
@@ -260,7 +296,22 @@ impl ContactSet {
     /// Return-map every contact at the iterate Δu = `du`; subtract the contact forces
     /// from the residual `r` and add the tangent to `j`. Returns (tangent symmetric,
     /// active set changed since the previous evaluation).
-    pub fn evaluate(&mut self, du: &[f64], r: &mut [f64], j: &mut SparseMatrix) -> (bool, bool) {
+    ///
+    /// With `predictor` (the first evaluation of a step, at Δu = 0), a contact that is
+    /// touching (gap ≤ `touch_tol`) but not yet pressed, and was closed or touching at the
+    /// start of the step, adds its closed (stick) stiffness to the tangent without any
+    /// force: the law's tangent at g_N = 0⁺ is zero, and without this the first Newton
+    /// direction of a wall whose blocks just touch is a free fall that drives every joint
+    /// deep into the penalty springs (DDA likewise starts the open–close iteration with
+    /// the touching contacts locked). Only the first direction changes; the solution and
+    /// the converged tangent are those of the law.
+    pub fn evaluate(
+        &mut self,
+        du: &[f64],
+        r: &mut [f64],
+        j: &mut SparseMatrix,
+        predictor: bool,
+    ) -> (bool, bool) {
         let alg = self.algorithm.unwrap_or(FrictionAlgorithm::ReturnMapping);
         let mut symmetric = true;
         let mut changed = self.last_status.len() != self.contacts.len();
@@ -275,6 +326,10 @@ impl ContactSet {
                 self.last_status[ci] = resp.status;
             }
             if resp.status == ContactStatus::Open {
+                if predictor && c.history.status != ContactStatus::Open && gn <= self.touch_tol {
+                    let (pn, ps) = (c.params.pn, c.params.ps);
+                    add_tangent(j, &c.dofs, &c.bn, &c.bs, [pn, 0.0, 0.0, ps]);
+                }
                 continue;
             }
             if resp.dts_dgn != 0.0 || resp.dtn_dgs != 0.0 {
@@ -285,25 +340,13 @@ impl ContactSet {
                     r[c.dofs[i]] -= c.bn[i] * resp.tn + c.bs[i] * resp.ts;
                 }
             }
-            // K_c = b_N (a b_N + b b_S)ᵀ + b_S (c b_N + d b_S)ᵀ
-            for jj in 0..12 {
-                let cj = c.dofs[jj];
-                if cj == NO_DOF {
-                    continue;
-                }
-                let vn = resp.dtn_dgn * c.bn[jj] + resp.dtn_dgs * c.bs[jj];
-                let vs = resp.dts_dgn * c.bn[jj] + resp.dts_dgs * c.bs[jj];
-                for ii in 0..12 {
-                    let ri = c.dofs[ii];
-                    if ri == NO_DOF {
-                        continue;
-                    }
-                    let v = c.bn[ii] * vn + c.bs[ii] * vs;
-                    if v != 0.0 {
-                        j.add(ri, cj, v);
-                    }
-                }
-            }
+            add_tangent(
+                j,
+                &c.dofs,
+                &c.bn,
+                &c.bs,
+                [resp.dtn_dgn, resp.dtn_dgs, resp.dts_dgn, resp.dts_dgs],
+            );
         }
         (symmetric, changed)
     }

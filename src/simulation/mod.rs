@@ -251,6 +251,7 @@ impl Simulation {
             contacts: &mut self.contacts,
             reference,
             changed: true,
+            evaluations: 0,
         };
         let opts = NewtonOptions {
             max_iterations: a.max_iterations,
@@ -451,6 +452,9 @@ struct StepSystem<'a> {
     contacts: &'a mut ContactSet,
     reference: f64,
     changed: bool,
+    /// Evaluations so far (the first is the closed-contact predictor, see
+    /// `ContactSet::evaluate`).
+    evaluations: usize,
 }
 
 impl NonlinearSystem for StepSystem<'_> {
@@ -467,7 +471,9 @@ impl NonlinearSystem for StepSystem<'_> {
             *ri = fi - *ri;
         }
         let t = Instant::now();
-        let (symmetric, changed) = self.contacts.evaluate(x, r, j);
+        let predictor = self.evaluations == 0;
+        self.evaluations += 1;
+        let (symmetric, changed) = self.contacts.evaluate(x, r, j, predictor);
         times.contact += t.elapsed();
         self.changed = changed;
         symmetric

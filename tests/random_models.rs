@@ -1,9 +1,10 @@
 //! Robustness of the whole step pipeline on random block systems: piles of random
 //! convex blocks (3 to 7 sides, random rotation, random gaps down to exact touching)
 //! dropped on a fixed base, in both friction modes, static or dynamic, with random
-//! cover sizes. Every generated model is valid, so it must parse; every step must then
-//! either converge with finite displacements or fail with a one-line error — never
-//! panic — and contacts must never be deeper than a few times weight / p_N.
+//! cover sizes. Every generated model is valid, so it must parse; with return mapping
+//! every step must converge with finite displacements; with the conventional rule a step
+//! may instead fail with a one-line error. Nothing may panic, and no contact may be
+//! deeper than the energy bound below.
 
 #[path = "support/proptest_cases.rs"]
 mod proptest_cases;
@@ -124,7 +125,21 @@ proptest! {
                 Ok(_) => {}
                 Err(e) => {
                     let msg = e.to_string();
-                    eprintln!("STEPFAIL {msg}");
+                    eprintln!("step failure: {msg}");
+                    // NMM_RANDOM_DUMP=DIR keeps the models whose steps failed, for study
+                    if let Ok(dir) = std::env::var("NMM_RANDOM_DUMP") {
+                        let name = format!("{dir}/fail_{:016x}.toml", {
+                            use std::hash::{Hash, Hasher};
+                            let mut h = std::collections::hash_map::DefaultHasher::new();
+                            text.hash(&mut h);
+                            h.finish()
+                        });
+                        let _ = std::fs::write(name, format!("# {msg}\n{text}"));
+                    }
+                    // Return mapping must converge on every pile. The conventional rule
+                    // may not: its lagged slide force has kinks that make Newton cycle
+                    // between two states (see the issue notes); it stops with this error.
+                    prop_assert!(p.conventional, "return mapping: {msg}\n{text}");
                     prop_assert!(!msg.is_empty() && !msg.contains('\n'), "multi-line error: {msg:?}");
                     return Ok(());
                 }

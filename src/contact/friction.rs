@@ -38,7 +38,8 @@
 //! committed state; only the end-of-step check ([`commit`]) changes it:
 //! * committed `Stick`: the shear spring is elastic for the whole step,
 //!   `t_S = p_S (g_S^e|ₙ + Δg_S)`, tangent `p_S`, **no limit**;
-//! * committed `Open` (a contact that closes during the step): Coulomb-limited by its
+//! * committed `Open` (a contact that closes during the step, including one that only
+//!   touches at its start): Coulomb-limited by its
 //!   current normal force, as by the return mapping. Such a contact has no elastic shear
 //!   history; left unlimited, the spring would be stretched by the whole step's slip and
 //!   the Newton iteration cycles between opening and closing it (DDA's open–close

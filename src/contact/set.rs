@@ -107,6 +107,8 @@ pub struct ContactSet {
     last_status: Vec<ContactStatus>,
     /// Gaps up to this count as touching (`REL_TOL` × the model's size).
     touch_tol: f64,
+    /// Converged steps committed so far.
+    commits: usize,
 }
 
 fn status_code(s: ContactStatus) -> u8 {
@@ -252,8 +254,17 @@ impl ContactSet {
                         cohesion: iface.cohesion * trib,
                     };
                     let mut history = self.committed.get(&key).map(|c| c.0).unwrap_or_default();
-                    if history.status == ContactStatus::Open && ve.gap <= self.touch_tol {
-                        // touching at the start of the step: an elastic shear spring from here
+                    if self.commits == 0
+                        && history.status == ContactStatus::Open
+                        && ve.gap <= self.touch_tol
+                    {
+                        // Touching at the start of the analysis: locked, an elastic shear
+                        // spring from here (DDA's initial contacts). A contact that comes
+                        // to touch later keeps its open history and closes during the
+                        // step: the conventional rule then limits it by Coulomb, as every
+                        // closing contact (an unlimited spring on a contact hovering at
+                        // g_N = 0 makes the shear force jump as it opens, and Newton
+                        // cycles; see `friction.rs`).
                         history = ShearHistory {
                             status: ContactStatus::Stick,
                             ..ShearHistory::default()
@@ -326,7 +337,8 @@ impl ContactSet {
                 self.last_status[ci] = resp.status;
             }
             if resp.status == ContactStatus::Open {
-                if predictor && c.history.status != ContactStatus::Open && gn <= self.touch_tol {
+                let touching = c.history.status != ContactStatus::Open || c.gn0 <= self.touch_tol;
+                if predictor && touching && gn <= self.touch_tol {
                     let (pn, ps) = (c.params.pn, c.params.ps);
                     add_tangent(j, &c.dofs, &c.bn, &c.bs, [pn, 0.0, 0.0, ps]);
                 }
@@ -354,6 +366,7 @@ impl ContactSet {
     /// Commit the converged increment: every contact's law response becomes its history.
     pub fn commit(&mut self, du: &[f64]) {
         let alg = self.algorithm.unwrap_or(FrictionAlgorithm::ReturnMapping);
+        self.commits += 1;
         self.committed.clear();
         for c in self.contacts.iter_mut() {
             let (gn, gs) = c.gaps(du);

@@ -137,8 +137,9 @@ proptest! {
                         let _ = std::fs::write(name, format!("# {msg}\n{text}"));
                     }
                     // Return mapping must converge on every pile. The conventional rule
-                    // may not: its lagged slide force has kinks that make Newton cycle
-                    // between two states (see the issue notes); it stops with this error.
+                    // may not: its locked contacts carry unlimited elastic springs whose
+                    // force jumps as they open, and Newton can then cycle between two
+                    // states; the run stops with this error.
                     prop_assert!(p.conventional, "return mapping: {msg}\n{text}");
                     prop_assert!(!msg.is_empty() && !msg.contains('\n'), "multi-line error: {msg:?}");
                     return Ok(());

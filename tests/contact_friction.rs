@@ -154,3 +154,37 @@ fn newton_converges_fast_when_contacts_slide() {
         }
     }
 }
+
+/// Only contacts touching at the start of the analysis are locked (stick history, an
+/// elastic shear spring from the first step, as DDA's initial contacts). A contact that
+/// comes to touch later keeps its open history: under the conventional rule it is then
+/// Coulomb-limited while it closes, so its shear force cannot jump as it opens again.
+#[test]
+fn only_initially_touching_contacts_are_locked() {
+    use nmm::contact::friction::ContactStatus;
+    use nmm::simulation::Simulation;
+    let text = "[analysis]\nmode = \"static\"\ndt = 0.01\nsteps = 2\ngravity = [0.0, 0.0]\nfriction = \"conventional\"\n\
+        [cover]\nsize = 0.25\n[[material]]\nname = \"rock\"\ndensity = 2500.0\nyoung = 1.0e9\npoisson = 0.25\n\
+        [[block]]\nname = \"base\"\nmaterial = \"rock\"\nvertices = [[0.0, -0.5], [2.0, -0.5], [2.0, 0.0], [0.0, 0.0]]\nfixed = true\n\
+        [[block]]\nname = \"top\"\nmaterial = \"rock\"\nvertices = [[0.5, 0.0], [1.5, 0.0], [1.5, 0.5], [0.5, 0.5]]\n\
+        [[interface]]\nfriction_angle = 30.0\nnormal_penalty = 1.0e10\nshear_penalty = 1.0e9\n";
+    let mut sim = Simulation::new(nmm::verify::cases::model(text).unwrap()).unwrap();
+    let search = 1e-3;
+    sim.contacts.detect(&sim.disc, &sim.model, &sim.u, search);
+    assert!(!sim.contacts.contacts.is_empty());
+    assert!(sim
+        .contacts
+        .contacts
+        .iter()
+        .all(|c| c.gn0.abs() < 1e-12 && c.history.status == ContactStatus::Stick));
+    // A step with no load: the contacts stay at g_N = 0, i.e. open, and are committed so.
+    let du = vec![0.0; sim.n_dofs()];
+    sim.contacts.commit(&du);
+    sim.contacts.detect(&sim.disc, &sim.model, &sim.u, search);
+    assert!(!sim.contacts.contacts.is_empty());
+    assert!(sim
+        .contacts
+        .contacts
+        .iter()
+        .all(|c| c.history.status == ContactStatus::Open));
+}

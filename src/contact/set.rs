@@ -309,8 +309,8 @@ impl ContactSet {
     /// active set changed since the previous evaluation).
     ///
     /// With `predictor` (the first evaluation of a step, at Δu = 0), a contact that is
-    /// touching (gap ≤ `touch_tol`) but not yet pressed, and was closed or touching at the
-    /// start of the step, adds its closed (stick) stiffness to the tangent without any
+    /// touching (gap ≤ `touch_tol`) but not yet pressed adds its closed (stick) stiffness
+    /// to the tangent without any
     /// force: the law's tangent at g_N = 0⁺ is zero, and without this the first Newton
     /// direction of a wall whose blocks just touch is a free fall that drives every joint
     /// deep into the penalty springs (DDA likewise starts the open–close iteration with
@@ -337,8 +337,8 @@ impl ContactSet {
                 self.last_status[ci] = resp.status;
             }
             if resp.status == ContactStatus::Open {
-                let touching = c.history.status != ContactStatus::Open || c.gn0 <= self.touch_tol;
-                if predictor && touching && gn <= self.touch_tol {
+                // at Δu = 0, g_N is the gap at the start of the step
+                if predictor && gn <= self.touch_tol {
                     let (pn, ps) = (c.params.pn, c.params.ps);
                     add_tangent(j, &c.dofs, &c.bn, &c.bs, [pn, 0.0, 0.0, ps]);
                 }

@@ -109,17 +109,16 @@ pub fn discretise_on_mesh(
             )));
         }
     }
-    let mb_h = mesh.h;
     let clipper = Clipper::new(mb).map_err(|e| DiscretiseError(format!("clipper: {e}")))?;
 
     let mut d = Discretisation {
+        locate_tol: super::LOCATE_TOL * mesh.h,
         mesh,
         covers: Vec::new(),
         elements: Vec::new(),
         block_elements: Vec::with_capacity(blocks.len()),
         boundaries: Vec::with_capacity(blocks.len()),
         n_dofs: 0,
-        locate_tol: super::LOCATE_TOL * mb_h,
     };
     for (b, (poly, _)) in blocks.iter().enumerate() {
         build_block(&mut d, &clipper, b, poly)?;

@@ -202,10 +202,7 @@ impl<'a> Fields<'a> {
     /// An error about one key.
     pub fn err(&self, key: &str, msg: impl std::fmt::Display) -> ModelError {
         // a missing key is reported at its table's header
-        let line = match self.table.contains_key(key) {
-            true => self.line(Some(key)),
-            false => self.line(None),
-        };
+        let line = self.line(Some(key).filter(|k| self.table.contains_key(*k)));
         error(format!("{}: key `{key}`: {msg}{line}", self.place))
     }
 

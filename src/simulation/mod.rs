@@ -251,7 +251,7 @@ impl Simulation {
             contacts: &mut self.contacts,
             reference,
             changed: true,
-            evaluations: 0,
+            first: true,
         };
         let opts = NewtonOptions {
             max_iterations: a.max_iterations,
@@ -452,9 +452,9 @@ struct StepSystem<'a> {
     contacts: &'a mut ContactSet,
     reference: f64,
     changed: bool,
-    /// Evaluations so far (the first is the closed-contact predictor, see
-    /// `ContactSet::evaluate`).
-    evaluations: usize,
+    /// No evaluation yet: the next one (at Δu = 0) is the closed-contact predictor,
+    /// see `ContactSet::evaluate`.
+    first: bool,
 }
 
 impl NonlinearSystem for StepSystem<'_> {
@@ -471,8 +471,7 @@ impl NonlinearSystem for StepSystem<'_> {
             *ri = fi - *ri;
         }
         let t = Instant::now();
-        let predictor = self.evaluations == 0;
-        self.evaluations += 1;
+        let predictor = std::mem::replace(&mut self.first, false);
         let (symmetric, changed) = self.contacts.evaluate(x, r, j, predictor);
         times.contact += t.elapsed();
         self.changed = changed;

@@ -565,17 +565,8 @@ mod tests {
         assert!(vertex_edge_contacts(&a, &b, 1e-3, &[true; 4]).is_empty());
     }
 
-    /// L-shaped B, CCW; reflex corner at (1, 1); notch x > 1, y > 1.
-    fn l_shape() -> Vec<Vec2> {
-        vec![
-            [0.0, 0.0],
-            [2.0, 0.0],
-            [2.0, 1.0],
-            [1.0, 1.0],
-            [1.0, 2.0],
-            [0.0, 2.0],
-        ]
-    }
+    // L-shaped B, CCW; reflex corner at (1, 1); notch x > 1, y > 1.
+    use crate::geometry::fixtures::l_shape;
 
     #[test]
     fn corner_in_the_notch_of_a_non_convex_b() {

@@ -302,14 +302,7 @@ mod tests {
 
     #[test]
     fn locate_follows_moved_elements_and_index_agrees() {
-        let l = vec![
-            [0.0, 0.0],
-            [2.0, 0.0],
-            [2.0, 1.0],
-            [1.0, 1.0],
-            [1.0, 2.0],
-            [0.0, 2.0],
-        ];
+        let l = crate::geometry::fixtures::l_shape();
         let mut d = discretise(&[(l, false)], 0.3).unwrap();
         // Rigid motion of every element: rotate by 0.3 rad and translate.
         let (c, s) = (0.3f64.cos(), 0.3f64.sin());

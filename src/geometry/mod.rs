@@ -10,6 +10,24 @@ pub mod clip;
 pub mod moments;
 pub mod polygon;
 
+/// Shapes shared by the unit tests of several modules.
+#[cfg(test)]
+pub(crate) mod fixtures {
+    use super::Vec2;
+
+    /// L-shaped polygon, CCW, area 3: reflex corner at (1, 1), notch x > 1, y > 1.
+    pub fn l_shape() -> Vec<Vec2> {
+        vec![
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ]
+    }
+}
+
 /// A point or vector in the plane.
 pub type Vec2 = [f64; 2];
 

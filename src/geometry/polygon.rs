@@ -400,14 +400,7 @@ mod tests {
         assert_eq!(signed_area(&sq), 4.0);
         assert!(!orient_ccw(&mut sq));
         // L-shape: area 3.
-        let l = [
-            [0.0, 0.0],
-            [2.0, 0.0],
-            [2.0, 1.0],
-            [1.0, 1.0],
-            [1.0, 2.0],
-            [0.0, 2.0],
-        ];
+        let l = crate::geometry::fixtures::l_shape();
         assert_eq!(signed_area(&l), 3.0);
         // Far from the origin: still exact for this representable square.
         assert_eq!(signed_area(&square(1e6, 1e6, 0.5)), 0.25);
@@ -444,14 +437,7 @@ mod tests {
         );
         assert_eq!(point_in_polygon(&sq, [0.0, 0.0], TOL), Location::Boundary);
         // Ray through a vertex of a non-convex polygon.
-        let l = [
-            [0.0, 0.0],
-            [2.0, 0.0],
-            [2.0, 1.0],
-            [1.0, 1.0],
-            [1.0, 2.0],
-            [0.0, 2.0],
-        ];
+        let l = crate::geometry::fixtures::l_shape();
         assert_eq!(point_in_polygon(&l, [0.5, 1.0], TOL), Location::Inside);
         assert_eq!(point_in_polygon(&l, [1.5, 1.5], TOL), Location::Outside);
         assert_eq!(point_in_polygon(&l, [-1.0, 1.0], TOL), Location::Outside);
@@ -522,14 +508,7 @@ mod tests {
         let spike = [[0.0, 0.0], [2.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
         assert!(self_intersection(&spike, TOL).is_some());
         // Non-convex but simple.
-        let l = [
-            [0.0, 0.0],
-            [2.0, 0.0],
-            [2.0, 1.0],
-            [1.0, 1.0],
-            [1.0, 2.0],
-            [0.0, 2.0],
-        ];
+        let l = crate::geometry::fixtures::l_shape();
         assert_eq!(self_intersection(&l, TOL), None);
     }
 
@@ -611,14 +590,7 @@ mod tests {
         r.reverse();
         assert!(polygons_overlap(&a, &r, TOL));
         // A block sitting in a notch of an L-shape: touching on two edges.
-        let l = [
-            [0.0, 0.0],
-            [2.0, 0.0],
-            [2.0, 1.0],
-            [1.0, 1.0],
-            [1.0, 2.0],
-            [0.0, 2.0],
-        ];
+        let l = crate::geometry::fixtures::l_shape();
         assert!(!polygons_overlap(&l, &square(1.0, 1.0, 1.0), TOL));
         assert!(polygons_overlap(&l, &square(0.9, 0.9, 1.0), TOL));
         // Interpenetration shallower than tol is not overlap.

@@ -6,6 +6,8 @@ use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
+mod progress;
+
 #[derive(Parser)]
 #[command(
     name = "nmm",
@@ -128,12 +130,12 @@ fn run(path: &Path, out: &Path, friction: Option<&str>, vtk: bool) -> anyhow::Re
         });
     }
     let opts = nmm::simulation::RunOptions {
-        progress: true,
         interrupt: Some(stop),
         vtk,
     };
-    let summary =
-        nmm::simulation::run(model, out, &opts).with_context(|| format!("{}", path.display()))?;
+    let mut bar = progress::Progress::new(model.analysis.steps, true);
+    let summary = nmm::simulation::run_observed(model, out, &opts, &mut bar)
+        .with_context(|| format!("{}", path.display()))?;
     let t = summary.timings;
     let its = &summary.iterations;
     let mut sorted = its.clone();

@@ -1,4 +1,4 @@
-//! Checks of the Newmark sliding-block reference (`support/newmark_sliding.rs`)
+//! Checks of the Newmark sliding-block reference (`nmm::verify::newmark_sliding`, crates/nmm/src/verify/newmark_sliding.rs)
 //! against closed forms.
 //!
 //! Convention (from the reference): the slope goes down toward −x, a positive
@@ -13,7 +13,7 @@
 //! the second form following from `tan(φ−θ) = (tanφ cosθ − sinθ)/(cosθ + tanφ sinθ)`
 //! (divide numerator and denominator of `sin(φ−θ)/cos(φ−θ)` by `cos φ`).
 
-#[path = "support/newmark_sliding.rs"]
+#[path = "../crates/nmm/src/verify/newmark_sliding.rs"]
 mod newmark_sliding;
 
 use newmark_sliding::{driving_and_normal, onset, slide, yield_acceleration};

@@ -12,16 +12,30 @@ use super::{Simulation, StepError, Timings};
 use crate::material::out_of_plane_stress;
 use crate::model::{Model, MonitorKind};
 use crate::output::history::HistoryWriter;
-use crate::output::progress::Progress;
 use crate::output::vtk::{write_vtu, Cell, DataArray, Grid, PvdWriter};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
+/// What a caller sees of a run while it goes (the command line draws a progress bar).
+/// Every method has an empty default.
+pub trait RunObserver {
+    /// The run starts at `step` (0 unless resumed) of `total_steps`.
+    fn start(&mut self, _step: usize, _total_steps: usize) {}
+    /// A step was completed: `step` steps done, simulated time `time`.
+    fn step_done(&mut self, _step: usize, _time: f64) {}
+    /// One line of information (e.g. a warning or a step cut).
+    fn message(&mut self, _line: &str) {}
+    /// The run ended (normally, by an interrupt or by an error).
+    fn finish(&mut self) {}
+}
+
+/// An observer that ignores everything.
+pub struct Silent;
+impl RunObserver for Silent {}
+
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {
-    /// Show a progress bar (only drawn when stderr is a terminal).
-    pub progress: bool,
     /// Set to true (e.g. by a Ctrl-C handler) to stop cleanly after the current step.
     pub interrupt: Option<Arc<AtomicBool>>,
     /// Write VTK frames (default true through [`RunOptions::new`]).
@@ -31,7 +45,6 @@ pub struct RunOptions {
 impl RunOptions {
     pub fn new() -> Self {
         RunOptions {
-            progress: true,
             interrupt: None,
             vtk: true,
         }
@@ -226,9 +239,19 @@ impl Frames {
 
 /// Run a validated model, writing its outputs into `out`.
 pub fn run(model: Model, out: &Path, opts: &RunOptions) -> Result<RunSummary, RunError> {
+    run_observed(model, out, opts, &mut Silent)
+}
+
+/// As [`run`], reporting progress to `observer`.
+pub fn run_observed(
+    model: Model,
+    out: &Path,
+    opts: &RunOptions,
+    observer: &mut dyn RunObserver,
+) -> Result<RunSummary, RunError> {
     std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
     let mut sim = Simulation::new(model).map_err(RunError::Setup)?;
-    run_simulation(&mut sim, out, opts)
+    run_simulation(&mut sim, out, opts, observer)
 }
 
 /// Step an existing simulation to its end time, writing outputs.
@@ -236,6 +259,7 @@ pub fn run_simulation(
     sim: &mut Simulation,
     out: &Path,
     opts: &RunOptions,
+    progress: &mut dyn RunObserver,
 ) -> Result<RunSummary, RunError> {
     std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
     let hist_path = out.join("history.csv");
@@ -250,7 +274,7 @@ pub fn run_simulation(
         f.write(sim)?;
     }
     let every = sim.model.analysis.output_every.max(1);
-    let progress = Progress::new(sim.model.analysis.steps, opts.progress);
+    progress.start(sim.step, sim.model.analysis.steps);
     let mut summary = RunSummary {
         n_dofs: sim.n_dofs(),
         n_elements: sim.disc.elements.len(),
@@ -279,7 +303,7 @@ pub fn run_simulation(
         };
         if rep.cuts > 0 {
             summary.cut_steps.push((sim.step, rep.cuts));
-            progress.println(format!(
+            progress.message(&format!(
                 "step {}: Δt cut {} time(s) to {:.3e} s to converge",
                 sim.step, rep.cuts, rep.dt
             ));
@@ -297,7 +321,7 @@ pub fn run_simulation(
                 last_written = sim.step;
             }
         }
-        progress.set(sim.step, sim.time);
+        progress.step_done(sim.step, sim.time);
         if interrupted {
             summary.interrupted = true;
             break;

@@ -4,7 +4,7 @@ use super::*;
 use std::path::Path;
 
 /// The complete example of `docs/model-format.md`.
-pub(crate) const EXAMPLE: &str = include_str!("../../tests/data/example.toml");
+pub(crate) const EXAMPLE: &str = include_str!("../../../../tests/data/example.toml");
 
 fn parse(text: &str) -> Result<Model, ModelError> {
     parse_model(text, Path::new("."))

@@ -37,6 +37,7 @@ impl Progress {
     }
 
     /// Whether the bar is drawn.
+    #[cfg(test)]
     pub fn is_drawn(&self) -> bool {
         self.drawn
     }
@@ -50,6 +51,7 @@ impl Progress {
     }
 
     /// Current step as last set.
+    #[cfg(test)]
     pub fn position(&self) -> usize {
         self.bar.position() as usize
     }
@@ -80,6 +82,22 @@ fn format_time(t: f64) -> String {
     }
     let s = format!("{t:.6}");
     format!("{} s", s.trim_end_matches('0').trim_end_matches('.'))
+}
+
+impl nmm::simulation::RunObserver for Progress {
+    fn start(&mut self, step: usize, total_steps: usize) {
+        self.bar.set_length(total_steps as u64);
+        self.set(step, 0.0);
+    }
+    fn step_done(&mut self, step: usize, time: f64) {
+        self.set(step, time);
+    }
+    fn message(&mut self, line: &str) {
+        self.println(line);
+    }
+    fn finish(&mut self) {
+        Progress::finish(self);
+    }
 }
 
 impl Drop for Progress {

@@ -2,7 +2,7 @@
 //! any `nmm` code, to check the shaken-slope results of the solver.
 //!
 //! Include from an integration test with
-//! `#[path = "support/newmark_sliding.rs"] mod newmark_sliding;`.
+//! `#[path = "../crates/nmm/src/verify/newmark_sliding.rs"] mod newmark_sliding;`.
 //!
 //! # Geometry and sign conventions
 //!

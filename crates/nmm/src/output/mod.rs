@@ -17,20 +17,16 @@
 //! * [`vtk`]: `.vtu` unstructured grids (base64 binary) and `.pvd` collections, rewritten
 //!   after each frame so an interrupted run leaves valid files.
 //! * [`plot`]: stacked line plots sharing one x axis, PNG and SVG, with an embedded font.
-//! * [`progress`]: a terminal progress bar (step, simulated time, ETA), silent when stderr is
-//!   not a terminal.
 //!
 //! Frame file names are produced by [`frame_file_name`] so that every part of the program
 //! agrees on them.
 
 pub mod history;
 pub mod plot;
-pub mod progress;
 pub mod vtk;
 
 pub use history::HistoryWriter;
 pub use plot::{plot_panels, LineStyle, Panel, PlotError, Series, Stroke};
-pub use progress::Progress;
 pub use vtk::{write_vtu, Cell, CellKind, DataArray, Grid, PvdWriter, Values};
 
 /// File name of frame `step` of a series, e.g. `frame_file_name("blocks", 42)` is

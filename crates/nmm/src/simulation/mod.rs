@@ -18,8 +18,8 @@ mod outputs;
 mod setup;
 
 pub use outputs::{
-    blocks_grid, contacts_grid, history_columns, monitor_values, run, run_simulation, RunError,
-    RunOptions, RunSummary,
+    blocks_grid, contacts_grid, history_columns, monitor_values, run, run_observed, run_simulation,
+    RunError, RunObserver, RunOptions, RunSummary, Silent,
 };
 
 use crate::assembly::global::{element_dofs, gather, scatter_matrix, scatter_vector, NO_DOF};

@@ -6,5 +6,4 @@ pub mod report;
 
 /// The independent rigid-block reference (Newmark 1965), shared with the tests: it uses
 /// no `nmm` code.
-#[path = "../../tests/support/newmark_sliding.rs"]
 pub mod newmark_sliding;

@@ -67,6 +67,15 @@ pub const MIN_PIECE_WIDTH: f64 = 1e-5;
 /// Discretise blocks `(vertices CCW, fixed)` with a mathematical mesh of size `h`
 /// covering all blocks (see [`MathMesh::covering`]).
 pub fn discretise(blocks: &[(Vec<Vec2>, bool)], h: f64) -> Result<Discretisation, DiscretiseError> {
+    discretise_through(blocks, h, None)
+}
+
+/// As [`discretise`], with a mesh node at `origin` when given (`[cover] origin`).
+pub fn discretise_through(
+    blocks: &[(Vec<Vec2>, bool)],
+    h: f64,
+    origin: Option<Vec2>,
+) -> Result<Discretisation, DiscretiseError> {
     if !(h.is_finite() && h > 0.0) {
         return Err(DiscretiseError(format!(
             "mesh size h = {h} must be finite and positive"
@@ -81,7 +90,7 @@ pub fn discretise(blocks: &[(Vec<Vec2>, bool)], h: f64) -> Result<Discretisation
     let bbox = blocks
         .iter()
         .fold(Aabb::empty(), |acc, (p, _)| acc.merge(&Aabb::of_points(p)));
-    let mesh = MathMesh::covering(&bbox, h, MAX_MESH_NODES).ok_or_else(|| {
+    let mesh = MathMesh::covering_through(&bbox, h, MAX_MESH_NODES, origin).ok_or_else(|| {
         DiscretiseError(format!(
             "mesh size h = {h} gives too many nodes for the model box (limit {MAX_MESH_NODES})"
         ))

@@ -37,6 +37,17 @@ impl MathMesh {
     /// (so that blocks are strictly inside the meshed box). `None` if `h` or the box is
     /// not finite/positive or the mesh would have more than `max_nodes` nodes.
     pub fn covering(bbox: &Aabb, h: f64, max_nodes: usize) -> Option<MathMesh> {
+        Self::covering_through(bbox, h, max_nodes, None)
+    }
+
+    /// As [`MathMesh::covering`], with a mesh node at `through` when given (the mesh
+    /// is then shifted by less than h so that the point is a node; `[cover] origin`).
+    pub fn covering_through(
+        bbox: &Aabb,
+        h: f64,
+        max_nodes: usize,
+        through: Option<Vec2>,
+    ) -> Option<MathMesh> {
         if !(h.is_finite() && h > 0.0) {
             return None;
         }
@@ -51,7 +62,17 @@ impl MathMesh {
             return None;
         }
         let margin = 0.5 * h;
-        let origin = [bbox.min[0] - margin, bbox.min[1] - margin];
+        let mut origin = [bbox.min[0] - margin, bbox.min[1] - margin];
+        if let Some(p) = through {
+            if !(p[0].is_finite() && p[1].is_finite()) {
+                return None;
+            }
+            // the largest node p - k h (k integer) at or below the default origin
+            for c in 0..2 {
+                let k = ((p[c] - origin[c]) / h).ceil();
+                origin[c] = p[c] - k * h;
+            }
+        }
         let fx = (bbox.max[0] + margin - origin[0]) / h;
         let fy = (bbox.max[1] + margin - origin[1]) / h;
         if !(fx.is_finite() && fy.is_finite()) || (fx + 2.0) * (fy + 2.0) > max_nodes as f64 {
@@ -202,6 +223,30 @@ impl MathMesh {
 mod tests {
     use super::*;
     use crate::cover::barycentric;
+
+    #[test]
+    fn covering_through_a_point_puts_a_node_there() {
+        let bbox = Aabb {
+            min: [0.0, 0.0],
+            max: [2.0, 1.0],
+        };
+        for p in [[0.0, 0.0], [0.37, 0.81], [-5.0, 13.1], [1.0, 0.5]] {
+            let m = MathMesh::covering_through(&bbox, 0.3, 1000, Some(p)).unwrap();
+            for c in 0..2 {
+                let k = (p[c] - m.origin[c]) / m.h;
+                assert!((k - k.round()).abs() < 1e-9, "{p:?}: {k}");
+                // blocks strictly inside, with at least the default margin
+                assert!(m.origin[c] <= bbox.min[c] - 0.5 * m.h + 1e-12);
+                assert!(m.origin[c] > bbox.min[c] - 1.5 * m.h - 1e-12);
+            }
+            let b = m.bbox();
+            assert!(b.max[0] >= bbox.max[0] + 0.5 * m.h && b.max[1] >= bbox.max[1] + 0.5 * m.h);
+        }
+        assert_eq!(
+            MathMesh::covering_through(&bbox, 0.3, 1000, None),
+            MathMesh::covering(&bbox, 0.3, 1000)
+        );
+    }
 
     fn mesh() -> MathMesh {
         MathMesh {

@@ -18,7 +18,10 @@ mod build;
 mod locate;
 pub mod mesh;
 
-pub use build::{discretise, discretise_on_mesh, DiscretiseError, MAX_MESH_NODES, MIN_PIECE_WIDTH};
+pub use build::{
+    discretise, discretise_on_mesh, discretise_through, DiscretiseError, MAX_MESH_NODES,
+    MIN_PIECE_WIDTH,
+};
 pub use locate::{ElementIndex, LOCATE_TOL};
 pub use mesh::MathMesh;
 

@@ -192,6 +192,9 @@ pub struct Model {
     pub analysis: Analysis,
     /// Mathematical mesh size h (m).
     pub cover_size: f64,
+    /// `[cover] origin`: a point the mathematical mesh passes through (a mesh node);
+    /// `None`: the default placement (h/2 below and left of the model's box).
+    pub cover_origin: Option<Vec2>,
     pub materials: Vec<Material>,
     pub blocks: Vec<Block>,
     pub interfaces: Vec<Interface>,

@@ -50,7 +50,7 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
         )));
     }
     let analysis = analysis(root)?;
-    let cover_size = cover(root)?;
+    let (cover_size, cover_origin) = cover(root)?;
     let materials = materials(root)?;
     let mut blocks = blocks(root, &materials)?;
     let tol = model_tolerance(&blocks);
@@ -68,6 +68,7 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
     Ok(Model {
         analysis,
         cover_size,
+        cover_origin,
         materials,
         blocks,
         interfaces,
@@ -184,12 +185,13 @@ fn analysis(root: &Doc) -> R<Analysis> {
     })
 }
 
-fn cover(root: &Doc) -> R<f64> {
+fn cover(root: &Doc) -> R<(f64, Option<Vec2>)> {
     let t = table(root, "cover")?
         .ok_or_else(|| error("[cover]: missing table (key `size` is required)"))?;
     let f = root.fields("[cover]", t, "cover", None);
-    f.deny_unknown(&["size"])?;
-    positive(&f, "size", f.req("size", number)?)
+    f.deny_unknown(&["size", "origin"])?;
+    let size = positive(&f, "size", f.req("size", number)?)?;
+    Ok((size, f.opt("origin", point)?))
 }
 
 fn materials(root: &Doc) -> R<Vec<Material>> {

@@ -25,7 +25,7 @@ pub use outputs::{
 use crate::assembly::global::{element_dofs, gather, scatter_matrix, scatter_vector, NO_DOF};
 use crate::assembly::local;
 use crate::contact::set::ContactSet;
-use crate::cover::{discretise, Discretisation, MaterialPoint};
+use crate::cover::{discretise_through, Discretisation, MaterialPoint};
 use crate::material::{elasticity_matrix, stress as hooke, Mat3};
 use crate::model::{Mode, Model, TimeFunction};
 use crate::solver::{
@@ -122,7 +122,8 @@ impl Simulation {
             .iter()
             .map(|b| (b.vertices.clone(), b.fixed))
             .collect();
-        let disc = discretise(&blocks, model.cover_size).map_err(|e| e.to_string())?;
+        let disc = discretise_through(&blocks, model.cover_size, model.cover_origin)
+            .map_err(|e| e.to_string())?;
         let cover_time = t0.elapsed();
         let n = disc.n_dofs;
         let elem_dofs = disc

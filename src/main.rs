@@ -149,6 +149,12 @@ fn run(path: &Path, out: &Path, friction: Option<&str>, vtk: bool) -> anyhow::Re
         sorted.last().copied().unwrap_or(0),
         summary.cut_steps.len()
     );
+    let l = &summary.linear;
+    eprintln!(
+        "linear solves {} (GMRES iterations {}), Cholesky factorisations {} ({} symbolic), LU {}; contact branch changes {}",
+        l.solves, l.gmres_iterations, l.factorisations, l.symbolic_analyses, l.lu_factorisations,
+        summary.active_set_changes
+    );
     eprintln!(
         "time: cover {:.3} s, assembly {:.3} s, contact {:.3} s, factorisation {:.3} s, solve {:.3} s",
         t.cover.as_secs_f64(),

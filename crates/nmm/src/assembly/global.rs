@@ -4,23 +4,8 @@
 //! local dof lists as [`NO_DOF`] and are skipped (their displacement is zero:
 //! a fixed block is held in the frame of the base).
 
-use crate::cover::{Discretisation, ManifoldElement};
+pub use crate::cover::basis::{element_dofs, NO_DOF};
 use crate::solver::{SparseMatrix, SparsePattern};
-
-/// Marks a local unknown that has no global unknown (a cover of a fixed block).
-pub const NO_DOF: usize = usize::MAX;
-
-/// Global unknowns of an element, ordered `[u_0x, u_0y, u_1x, u_1y, u_2x, u_2y]`.
-pub fn element_dofs(disc: &Discretisation, e: &ManifoldElement) -> [usize; 6] {
-    let mut d = [NO_DOF; 6];
-    for k in 0..3 {
-        if let Some(g) = disc.covers[e.covers[k]].dof {
-            d[2 * k] = g;
-            d[2 * k + 1] = g + 1;
-        }
-    }
-    d
-}
 
 /// The free unknowns of a local dof list.
 pub fn free(dofs: &[usize]) -> Vec<usize> {

@@ -135,6 +135,17 @@ pub struct LawResponse {
     pub slip: f64,
 }
 
+/// The response of an open contact: no force, no stiffness.
+pub fn open_response() -> LawResponse {
+    LawResponse::open()
+}
+
+/// The stick (elastic) response at (g_N, Δg_S), also at a gap (g_N ≥ 0, a contact held
+/// closed by the iteration): `t_N = p_N g_N`, `t_S = p_S (g_S^e|ₙ + Δg_S)`.
+pub fn stick_response(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> LawResponse {
+    stick(p, h, p.pn * gn, dgs)
+}
+
 impl LawResponse {
     fn open() -> Self {
         LawResponse {

@@ -18,6 +18,7 @@
 pub mod broad;
 pub mod friction;
 pub mod generate;
+pub mod law;
 pub mod narrow;
 pub mod set;
 
@@ -27,6 +28,7 @@ pub use friction::{
     ShearHistory,
 };
 pub use generate::brick_wall;
+pub use law::{law_for, Branch, FrictionLaw, IterationContext};
 pub use narrow::{
     corner_flags, vertex_edge_contacts, vertex_edge_contacts_with, NarrowParams, VertexEdge,
 };

@@ -1,17 +1,44 @@
-//! The contact set of a step: detection on the NMM geometry, vertex–edge
-//! kinematics on the covers, and the friction law at every Newton iterate.
+//! The contact set of a step: detection on the NMM geometry, vertex–edge kinematics on the
+//! covers, tributary weights, and the friction law at every Newton iterate.
 //!
-//! **Kinematics.** A contact is a boundary vertex P of block A (a material point
-//! of element e_A with weights w_A) against a boundary segment of block B, at the
-//! point Q of the segment nearest to P (a material point of the segment's element
-//! e_B with weights w_B). With n the outward unit normal of B's segment and t its
-//! unit direction, both taken on the geometry at the start of the step (small
-//! displacement per step, as in DDA/NMM):
+//! **Kinematics.** A contact is a boundary vertex P of block A (a material point of element
+//! e_A with weights w_A) against a boundary segment of block B, at the point Q of the
+//! segment nearest to P (a material point of the segment's element e_B with weights w_B).
+//! With n the outward unit normal of B's segment and t its unit direction, both taken on
+//! the geometry at the start of the step (small displacement per step, as in DDA/NMM):
 //!
 //! g_N(Δu) = g_N⁰ + n · (Δu_P − Δu_Q),   Δg_S(Δu) = t · (Δu_P − Δu_Q),
 //!
 //! with Δu_P = Σ_k w_A,k Δu_k and Δu_Q = Σ_k w_B,k Δu_k, i.e. g_N = g_N⁰ + b_Nᵀ Δu and
-//! Δg_S = b_Sᵀ Δu over the (up to 12) unknowns of the two elements.
+//! Δg_S = b_Sᵀ Δu over the unknowns of the two elements ([`CONTACT_DOFS`]).
+//!
+//! **Integration of the contact traction (tributary weights, two passes).** The contact
+//! virtual work ∫_Γ (t_N δg_N + t_S δg_S) dΓ is integrated by the vertex (trapezoidal)
+//! rule: the interface tractions are τ_N = ε_N g_N and τ_S = ε_S g_S^e with the penalties
+//! per unit length ε = 2 p / s̄ (`normal_penalty`, `shear_penalty` p in N/m per metre of
+//! thickness; s̄ the mean length of the model's boundary segments, i.e. the mean spacing of
+//! boundary vertices — block corners and the points where block edges cross mesh lines).
+//! As in DDA, where every vertex contact is a spring p, every vertex of either face of an
+//! interface carries about one spring p; unlike a spring per vertex, the springs are
+//! weighted by the length of interface each vertex stands for, so that the traction is
+//! consistent. Each vertex contact stands for its **tributary length**
+//!
+//! λ_P = ½ Σ_{s ∋ P} |proj_B(s_½)|,
+//!
+//! the projected length, onto B's segment and clipped to the polygon edge of B that the
+//! segment belongs to, of the half of each of A's two boundary segments at P that faces B
+//! (outward normals opposed, n_s · n < 0; a segment facing away counts zero). The vertices
+//! of A on B and the vertices of B on A are both taken (a corner of either block on a face
+//! of the other is then always found), each with **half** its tributary length, so that the
+//! two passes integrate the same traction once, not twice. For two flat faces pressed
+//! together, each pass alone is the trapezoidal rule of the interface, exact for the
+//! uniform traction whatever the refinement points of the two faces are (they are where the
+//! faces cross mesh lines): a uniform pressure is transmitted as a uniform pressure, on,
+//! near or between mesh lines (`tests/contact_patch.rs`). Each contact is then a spring
+//! pair p_N = ε_N w, p_S = ε_S w with w = λ_P / 2 and cohesion c w; its Coulomb law is the
+//! law of the tractions scaled by w (the laws are homogeneous of degree one in (p, c)).
+//! A point contact (a corner on a face) carries the springs of its corner's tributary
+//! length: about p when the corner's edges are about s̄ long.
 //!
 //! **Forces.** The contact's virtual work t_N δg_N + t_S δg_S gives the internal force
 //! f_c = b_N t_N + b_S t_S and the tangent
@@ -19,21 +46,25 @@
 //! unsymmetric for a sliding contact under return mapping. The force on block A is
 //! −(t_N n + t_S t) (t_N ≤ 0: it pushes A out of B) and on block B the opposite.
 //!
-//! **Identity and state.** A contact is identified by (block A, vertex of A, block B),
-//! so that it keeps its elastic shear gap and its stick/slide state when its vertex
-//! passes from one segment of B to the next. States are committed only when a
-//! step converges.
+//! **Identity and state.** A contact is identified by (block A, vertex of A, block B), so
+//! that it keeps its elastic shear gap and its stick/slide state when its vertex passes
+//! from one segment of B to the next. States are committed only when a step converges.
+//! The branch each contact is linearised on at a Newton iterate is chosen by its
+//! [`FrictionLaw`] ([`ContactSet::choose_branches`]).
 
 use super::broad::sweep_and_prune;
-use super::friction::{self, ContactStatus, FrictionParams, LawResponse, ShearHistory};
-use super::narrow::vertex_edge_contacts;
-use crate::assembly::global::NO_DOF;
-use crate::contact::narrow::VertexEdge;
+use super::friction::{ContactStatus, FrictionParams, LawResponse, ShearHistory};
+use super::law::{law_for, Branch, FrictionLaw, IterationContext};
+use super::narrow::{vertex_edge_contacts, VertexEdge};
+use crate::cover::basis::{directional_row, ELEMENT_DOFS, NO_DOF};
 use crate::cover::{barycentric, Discretisation};
-use crate::geometry::{cross, dist, dot, norm, sub, Aabb, Vec2};
+use crate::geometry::{cross, dot, norm, sub, Aabb, Vec2};
 use crate::model::{FrictionAlgorithm, Model};
-use crate::solver::SparseMatrix;
+use crate::solver::SparsePattern;
 use std::collections::HashMap;
+
+/// Unknowns a contact couples: those of the vertex's element and of the edge's element.
+pub const CONTACT_DOFS: usize = 2 * ELEMENT_DOFS;
 
 /// (block of the vertex, vertex index on its refined boundary, block of the edge).
 pub type ContactKey = (usize, usize, usize);
@@ -43,15 +74,25 @@ pub struct Contact {
     pub key: ContactKey,
     /// Segment of the edge block's boundary.
     pub segment: usize,
-    pub dofs: [usize; 12],
-    pub bn: [f64; 12],
-    pub bs: [f64; 12],
+    pub dofs: [usize; CONTACT_DOFS],
+    pub bn: [f64; CONTACT_DOFS],
+    pub bs: [f64; CONTACT_DOFS],
     /// Normal gap at the start of the step (negative: penetration).
     pub gn0: f64,
+    /// Length of interface this contact stands for (m): half its tributary length.
+    pub weight: f64,
+    /// The contact's springs and strength: the interface's per-length values × `weight`.
     pub params: FrictionParams,
     /// Committed history (end of the last converged step).
     pub history: ShearHistory,
-    /// Response at the latest Newton iterate.
+    /// The contact is new to this step and its gap at the start of the step is within the
+    /// touching tolerance (the closed-contact predictor holds it closed at the first iterate).
+    pub touching: bool,
+    /// Branch the latest Newton iterate was linearised on.
+    pub branch: Branch,
+    /// Its tangent [∂t_N/∂g_N, ∂t_N/∂g_S, ∂t_S/∂g_N, ∂t_S/∂g_S] (constant on a branch).
+    pub coef: [f64; 4],
+    /// The law's response (on its own branch) at the latest true evaluation.
     pub response: LawResponse,
     /// Vertex position at the start of the step.
     pub position: Vec2,
@@ -60,9 +101,11 @@ pub struct Contact {
 }
 
 impl Contact {
-    fn gaps(&self, du: &[f64]) -> (f64, f64) {
+    /// (g_N, Δg_S) at the increment `du`.
+    #[inline]
+    pub fn gaps(&self, du: &[f64]) -> (f64, f64) {
         let (mut gn, mut gs) = (self.gn0, 0.0);
-        for i in 0..12 {
+        for i in 0..CONTACT_DOFS {
             let d = self.dofs[i];
             if d != NO_DOF {
                 gn += self.bn[i] * du[d];
@@ -71,6 +114,25 @@ impl Contact {
         }
         (gn, gs)
     }
+
+    /// (b_N · v, b_S · v) for a direction v.
+    #[inline]
+    fn rates(&self, v: &[f64]) -> (f64, f64) {
+        let (mut a, mut b) = (0.0, 0.0);
+        for i in 0..CONTACT_DOFS {
+            let d = self.dofs[i];
+            if d != NO_DOF {
+                a += self.bn[i] * v[d];
+                b += self.bs[i] * v[d];
+            }
+        }
+        (a, b)
+    }
+
+}
+
+fn tangent4(r: &LawResponse) -> [f64; 4] {
+    [r.dtn_dgn, r.dtn_dgs, r.dts_dgn, r.dts_dgs]
 }
 
 /// Summed contact force on one block from another.
@@ -92,23 +154,70 @@ pub struct ContactSnapshot {
     pub force_on_first: Vec2,
     pub normal_force: f64,
     pub shear_force: f64,
+    /// Tributary length of the contact (m).
+    pub weight: f64,
     /// 0 open, 1 stick, 2 slide.
     pub state: u8,
     pub first: usize,
     pub second: usize,
 }
 
-#[derive(Debug, Clone, Default)]
+/// Counts of one evaluation of the contact set.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct BranchCounts {
+    pub open: usize,
+    pub stick: usize,
+    pub slide: usize,
+}
+
+#[derive(Clone)]
 pub struct ContactSet {
     pub contacts: Vec<Contact>,
     /// Committed history of each closed contact, with the outward normal it had.
     committed: HashMap<ContactKey, (ShearHistory, Vec2)>,
-    algorithm: Option<FrictionAlgorithm>,
-    last_status: Vec<ContactStatus>,
+    /// Every contact of the last committed step, open ones included.
+    seen: std::collections::HashSet<ContactKey>,
+    law: &'static dyn FrictionLaw,
     /// Gaps up to this count as touching (`REL_TOL` × the model's size).
     touch_tol: f64,
+    /// Mean length of the boundary segments of the model's blocks, s̄ (m).
+    spacing: f64,
     /// Converged steps committed so far.
     commits: usize,
+    /// For each block, each boundary segment's polygon edge as (first, last) vertex indices
+    /// of the refined boundary (the corners that bound it). Built at the first detection.
+    faces: Vec<Vec<(usize, usize)>>,
+    /// Positions of each contact's tangent entries in the bound pattern
+    /// (`CONTACT_DOFS²` per contact, row-major, `u32::MAX` where a dof is missing).
+    slots: Vec<u32>,
+    bound: Option<std::sync::Arc<SparsePattern>>,
+}
+
+impl Default for ContactSet {
+    fn default() -> Self {
+        ContactSet {
+            contacts: Vec::new(),
+            committed: HashMap::new(),
+            seen: std::collections::HashSet::new(),
+            law: law_for(FrictionAlgorithm::ReturnMapping),
+            touch_tol: 0.0,
+            spacing: 0.0,
+            commits: 0,
+            faces: Vec::new(),
+            slots: Vec::new(),
+            bound: None,
+        }
+    }
+}
+
+impl std::fmt::Debug for ContactSet {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ContactSet")
+            .field("contacts", &self.contacts.len())
+            .field("law", &self.law.name())
+            .field("commits", &self.commits)
+            .finish()
+    }
 }
 
 fn status_code(s: ContactStatus) -> u8 {
@@ -119,43 +228,94 @@ fn status_code(s: ContactStatus) -> u8 {
     }
 }
 
-/// Adds one contact's tangent K_c = b_N (a b_N + b b_S)ᵀ + b_S (c b_N + d b_S)ᵀ with
-/// `[a, b, c, d]` = [∂t_N/∂g_N, ∂t_N/∂g_S, ∂t_S/∂g_N, ∂t_S/∂g_S].
-fn add_tangent(
-    j: &mut SparseMatrix,
-    dofs: &[usize; 12],
-    bn: &[f64; 12],
-    bs: &[f64; 12],
-    [a, b, c, d]: [f64; 4],
-) {
-    for jj in 0..12 {
-        let cj = dofs[jj];
-        if cj == NO_DOF {
+/// For each segment of a refined boundary, the (first, last) vertex indices of the polygon
+/// edge it belongs to: the corners before and after it.
+fn polygon_faces(corner: &[bool]) -> Vec<(usize, usize)> {
+    let n = corner.len();
+    if !corner.iter().any(|&c| c) {
+        return (0..n).map(|j| (j, (j + 1) % n)).collect();
+    }
+    (0..n)
+        .map(|j| {
+            let mut a = j;
+            while !corner[a] {
+                a = (a + n - 1) % n;
+            }
+            let mut b = (j + 1) % n;
+            while !corner[b] {
+                b = (b + 1) % n;
+            }
+            (a, b)
+        })
+        .collect()
+}
+
+/// Tributary length of vertex `i` of the closed polyline `a` on the segment of `b` with
+/// origin `p0`, unit direction `t` and outward normal `n`, whose polygon edge spans
+/// `[s_lo, s_hi]` in the coordinate s = (x − p0)·t: half of each adjacent segment that
+/// faces the segment (outward normals opposed), projected on t and clipped to the edge.
+fn tributary(a: &[Vec2], i: usize, p0: Vec2, t: Vec2, n: Vec2, s_lo: f64, s_hi: f64) -> f64 {
+    let m = a.len();
+    let p = a[i];
+    let sp = dot(sub(p, p0), t);
+    let mut w = 0.0;
+    // segment i → i+1 (outward normal of a CCW edge: direction turned clockwise), and the
+    // segment i−1 → i
+    for (q, from_p) in [(a[(i + 1) % m], true), (a[(i + m - 1) % m], false)] {
+        let d = if from_p { sub(q, p) } else { sub(p, q) };
+        let len = norm(d);
+        if len == 0.0 {
             continue;
         }
-        let vn = a * bn[jj] + b * bs[jj];
-        let vs = c * bn[jj] + d * bs[jj];
-        for ii in 0..12 {
-            let ri = dofs[ii];
-            if ri == NO_DOF {
-                continue;
-            }
-            let v = bn[ii] * vn + bs[ii] * vs;
-            if v != 0.0 {
-                j.add(ri, cj, v);
-            }
+        let ns = [d[1] / len, -d[0] / len];
+        if dot(ns, n) >= 0.0 {
+            continue;
         }
+        let half = 0.5 * dot(sub(q, p), t);
+        let (lo, hi) = if half < 0.0 {
+            (sp + half, sp)
+        } else {
+            (sp, sp + half)
+        };
+        w += (hi.min(s_hi) - lo.max(s_lo)).max(0.0);
     }
+    w
 }
 
 impl ContactSet {
+    /// Gaps up to this count as touching.
+    pub fn touch_tolerance(&self) -> f64 {
+        self.touch_tol
+    }
+
+    /// The friction law of the set.
+    pub fn law(&self) -> &'static dyn FrictionLaw {
+        self.law
+    }
+
     /// Find the contacts on the current geometry (displacement `u` from the initial one).
     pub fn detect(&mut self, disc: &Discretisation, model: &Model, u: &[f64], search: f64) {
-        self.algorithm = Some(model.analysis.friction);
+        self.law = law_for(model.analysis.friction);
         self.contacts.clear();
-        self.last_status.clear();
+        self.bound = None;
         if model.blocks.len() < 2 {
             return;
+        }
+        if self.faces.len() != disc.boundaries.len() {
+            let (mut len, mut count) = (0.0, 0usize);
+            for b in &disc.boundaries {
+                let m = b.vertices.len();
+                for i in 0..m {
+                    len += crate::geometry::dist(b.vertices[i].x0, b.vertices[(i + 1) % m].x0);
+                }
+                count += m;
+            }
+            self.spacing = len / count.max(1) as f64;
+            self.faces = disc
+                .boundaries
+                .iter()
+                .map(|b| polygon_faces(&b.vertices.iter().map(|v| v.corner).collect::<Vec<_>>()))
+                .collect();
         }
         // current boundary polylines
         let polys: Vec<Vec<Vec2>> = disc
@@ -185,6 +345,8 @@ impl ContactSet {
             .fold(Aabb::empty(), |a, b| a.merge(b))
             .diagonal();
         self.touch_tol = crate::model::REL_TOL * size;
+        // springs per unit length of interface per unit penalty: 2 / s̄
+        let density = 2.0 / self.spacing;
         let mut pairs = sweep_and_prune(&boxes);
         pairs.sort_unstable();
         for (a, b) in pairs {
@@ -212,66 +374,65 @@ impl ContactSet {
                             }
                         }
                     }
+                    let pb_poly = &polys[pb];
+                    let nb = pb_poly.len();
+                    let p0 = pb_poly[ve.segment];
+                    let (f0, f1) = self.faces[pb][ve.segment];
+                    let s_lo = dot(sub(pb_poly[f0], p0), ve.tangent);
+                    let s_hi = dot(sub(pb_poly[f1], p0), ve.tangent);
+                    let lambda = tributary(
+                        &polys[pa],
+                        ve.vertex,
+                        p0,
+                        ve.tangent,
+                        ve.normal,
+                        s_lo.min(s_hi),
+                        s_lo.max(s_hi),
+                    );
+                    let weight = 0.5 * lambda;
+                    if weight <= 0.0 {
+                        continue;
+                    }
                     let vert = &disc.boundaries[pa].vertices[ve.vertex];
                     let eb = disc.boundaries[pb].segment_elements[ve.segment];
-                    let nb = polys[pb].len();
-                    let q = crate::geometry::lerp(
-                        polys[pb][ve.segment],
-                        polys[pb][(ve.segment + 1) % nb],
-                        ve.xi,
-                    );
+                    let q = crate::geometry::lerp(p0, pb_poly[(ve.segment + 1) % nb], ve.xi);
                     let wb = barycentric(&disc.elements[eb].nodes, q);
                     let wa = vert.at.weights;
                     let ea = &disc.elements[vert.at.element];
-                    let mut dofs = [NO_DOF; 12];
-                    let (mut bn, mut bs) = ([0.0; 12], [0.0; 12]);
-                    for k in 0..3 {
-                        for (side, (el, w, sign)) in [(ea, wa, 1.0), (&disc.elements[eb], wb, -1.0)]
-                            .into_iter()
-                            .enumerate()
-                        {
-                            if let Some(g) = disc.covers[el.covers[k]].dof {
-                                let i = 6 * side + 2 * k;
-                                dofs[i] = g;
-                                dofs[i + 1] = g + 1;
-                                bn[i] = sign * w[k] * ve.normal[0];
-                                bn[i + 1] = sign * w[k] * ve.normal[1];
-                                bs[i] = sign * w[k] * ve.tangent[0];
-                                bs[i + 1] = sign * w[k] * ve.tangent[1];
+                    let mut dofs = [NO_DOF; CONTACT_DOFS];
+                    let (mut bn, mut bs) = ([0.0; CONTACT_DOFS], [0.0; CONTACT_DOFS]);
+                    for (side, (el, w, sign)) in [(ea, wa, 1.0), (&disc.elements[eb], wb, -1.0)]
+                        .into_iter()
+                        .enumerate()
+                    {
+                        let ed = crate::cover::basis::element_dofs(disc, el);
+                        let rn = directional_row(&w, ve.normal);
+                        let rs = directional_row(&w, ve.tangent);
+                        for i in 0..ELEMENT_DOFS {
+                            let k = ELEMENT_DOFS * side + i;
+                            dofs[k] = ed[i];
+                            if ed[i] != NO_DOF {
+                                bn[k] = sign * rn[i];
+                                bs[k] = sign * rs[i];
                             }
                         }
                     }
-                    // tributary length of the vertex (for cohesion)
-                    let np = polys[pa].len();
-                    let p = polys[pa][ve.vertex];
-                    let trib = 0.5
-                        * (dist(p, polys[pa][(ve.vertex + 1) % np])
-                            + dist(p, polys[pa][(ve.vertex + np - 1) % np]));
                     let params = FrictionParams {
-                        pn: iface.normal_penalty,
-                        ps: iface.shear_penalty,
+                        pn: iface.normal_penalty * density * weight,
+                        ps: iface.shear_penalty * density * weight,
                         tan_phi: iface.friction_angle.to_radians().tan(),
-                        cohesion: iface.cohesion * trib,
+                        cohesion: iface.cohesion * weight,
                     };
-                    let mut history = self.committed.get(&key).map(|c| c.0).unwrap_or_default();
-                    if self.commits == 0
-                        && history.status == ContactStatus::Open
-                        && ve.gap <= self.touch_tol
-                    {
-                        // Touching at the start of the analysis: locked, an elastic shear
-                        // spring from here (DDA's initial contacts). A contact that comes
-                        // to touch later keeps its open history and closes during the
-                        // step: the conventional rule then limits it by Coulomb, as every
-                        // closing contact (an unlimited spring on a contact hovering at
-                        // g_N = 0 makes the shear force jump as it opens, and Newton
-                        // cycles; see `friction.rs`).
-                        history = ShearHistory {
-                            status: ContactStatus::Stick,
-                            ..ShearHistory::default()
-                        };
-                    }
-                    let response =
-                        friction::evaluate(model.analysis.friction, &params, &history, ve.gap, 0.0);
+                    // a contact new to this step that touches: the predictor holds it closed
+                    // at the first iterate (a contact of the last step keeps the state the
+                    // last step found for it)
+                    let touching = ve.gap <= self.touch_tol && !self.seen.contains(&key);
+                    let history = match self.committed.get(&key) {
+                        Some(c) => c.0,
+                        None if self.commits == 0 => self.law.initial_history(touching),
+                        None => ShearHistory::default(),
+                    };
+                    let response = self.law.response(&params, &history, ve.gap, 0.0);
                     self.contacts.push(Contact {
                         key,
                         segment: ve.segment,
@@ -279,10 +440,14 @@ impl ContactSet {
                         bn,
                         bs,
                         gn0: ve.gap,
+                        weight,
                         params,
                         history,
+                        touching,
+                        branch: Branch::Open,
+                        coef: [0.0; 4],
                         response,
-                        position: p,
+                        position: polys[pa][ve.vertex],
                         normal: ve.normal,
                         tangent: ve.tangent,
                     });
@@ -304,74 +469,249 @@ impl ContactSet {
             .collect()
     }
 
-    /// Return-map every contact at the iterate Δu = `du`; subtract the contact forces
-    /// from the residual `r` and add the tangent to `j`. Returns (tangent symmetric,
-    /// active set changed since the previous evaluation).
-    ///
-    /// With `predictor` (the first evaluation of a step, at Δu = 0), a contact that is
-    /// touching (gap ≤ `touch_tol`) but not yet pressed adds its closed (stick) stiffness
-    /// to the tangent without any
-    /// force: the law's tangent at g_N = 0⁺ is zero, and without this the first Newton
-    /// direction of a wall whose blocks just touch is a free fall that drives every joint
-    /// deep into the penalty springs (DDA likewise starts the open–close iteration with
-    /// the touching contacts locked). Only the first direction changes; the solution and
-    /// the converged tangent are those of the law.
-    pub fn evaluate(
-        &mut self,
-        du: &[f64],
-        r: &mut [f64],
-        j: &mut SparseMatrix,
-        predictor: bool,
-    ) -> (bool, bool) {
-        let alg = self.algorithm.unwrap_or(FrictionAlgorithm::ReturnMapping);
-        let mut symmetric = true;
-        let mut changed = self.last_status.len() != self.contacts.len();
-        self.last_status
-            .resize(self.contacts.len(), ContactStatus::Open);
-        for (ci, c) in self.contacts.iter_mut().enumerate() {
-            let (gn, gs) = c.gaps(du);
-            let resp = friction::evaluate(alg, &c.params, &c.history, gn, gs);
-            c.response = resp;
-            if self.last_status[ci] != resp.status {
-                changed = true;
-                self.last_status[ci] = resp.status;
-            }
-            if resp.status == ContactStatus::Open {
-                // at Δu = 0, g_N is the gap at the start of the step
-                if predictor && gn <= self.touch_tol {
-                    let (pn, ps) = (c.params.pn, c.params.ps);
-                    add_tangent(j, &c.dofs, &c.bn, &c.bs, [pn, 0.0, 0.0, ps]);
+    /// Whether every contact's couplings are in `pattern`.
+    pub fn fits(&self, pattern: &SparsePattern) -> bool {
+        self.contacts.iter().all(|c| {
+            c.dofs.iter().filter(|&&d| d != NO_DOF).all(|&col| {
+                c.dofs
+                    .iter()
+                    .filter(|&&d| d != NO_DOF)
+                    .all(|&row| pattern.slot(row, col).is_some())
+            })
+        })
+    }
+
+    /// Precompute the positions of every contact's tangent entries in `pattern` (which
+    /// must hold them, see [`ContactSet::fits`]).
+    pub fn bind(&mut self, pattern: &std::sync::Arc<SparsePattern>) {
+        if self
+            .bound
+            .as_ref()
+            .is_some_and(|b| std::sync::Arc::ptr_eq(b, pattern))
+        {
+            return;
+        }
+        let n2 = CONTACT_DOFS * CONTACT_DOFS;
+        self.slots.clear();
+        self.slots.resize(self.contacts.len() * n2, u32::MAX);
+        for (ci, c) in self.contacts.iter().enumerate() {
+            let s = &mut self.slots[ci * n2..(ci + 1) * n2];
+            for (ii, &row) in c.dofs.iter().enumerate() {
+                if row == NO_DOF {
+                    continue;
                 }
+                for (jj, &col) in c.dofs.iter().enumerate() {
+                    if col == NO_DOF {
+                        continue;
+                    }
+                    let k = pattern
+                        .slot(row, col)
+                        .expect("contact coupling missing from the pattern");
+                    s[ii * CONTACT_DOFS + jj] = k as u32;
+                }
+            }
+        }
+        self.bound = Some(pattern.clone());
+    }
+
+    /// Choose each contact's branch at the iterate Δu = `du` (the law's
+    /// [`FrictionLaw::iteration_branch`]; `first`: the first iterate of the step). Returns
+    /// how many contacts changed branch (at the first iterate: how many are not open).
+    pub fn choose_branches(&mut self, du: &[f64], first: bool) -> usize {
+        let law = self.law;
+        let mut changed = 0;
+        let debug = std::env::var_os("NMM_DEBUG_BRANCHES").is_some();
+        let mut trans = [0usize; 9];
+        for c in self.contacts.iter_mut() {
+            let (gn, gs) = c.gaps(du);
+            let ctx = IterationContext {
+                previous: (!first).then_some(c.branch),
+                touching: c.touching,
+            };
+            let b = law.iteration_branch(&c.params, &c.history, gn, gs, ctx);
+            if !first && b != c.branch && debug {
+                let k = |x: Branch| match x {
+                    Branch::Open => 0,
+                    Branch::Stick => 1,
+                    Branch::Slide(_) => 2,
+                };
+                trans[k(c.branch) * 3 + k(b)] += 1;
+            }
+            changed += usize::from(if first { b != Branch::Open } else { b != c.branch });
+            c.branch = b;
+            c.coef = tangent4(&law.on_branch(&c.params, &c.history, gn, gs, b));
+        }
+        if debug && !first {
+            eprintln!("    transitions o->s {} o->sl {} s->o {} s->sl {} sl->o {} sl->s {} sl->sl {}",
+                trans[1], trans[2], trans[3], trans[5], trans[6], trans[7], trans[8]);
+        }
+        changed
+    }
+
+    /// Put every contact on the law's own branch at `du` (no iteration rule). Returns how
+    /// many contacts changed branch.
+    pub fn choose_own_branches(&mut self, du: &[f64]) -> usize {
+        let law = self.law;
+        let mut changed = 0;
+        for c in self.contacts.iter_mut() {
+            let (gn, gs) = c.gaps(du);
+            let b = law.branch(&c.params, &c.history, gn, gs);
+            changed += usize::from(b != c.branch);
+            c.branch = b;
+            c.coef = tangent4(&law.on_branch(&c.params, &c.history, gn, gs, b));
+        }
+        changed
+    }
+
+    /// Evaluate every contact's response at `du` on its chosen branch (`own = false`) or on
+    /// the law's own branch (`own = true`, the true residual), and subtract the contact
+    /// forces from `r`. With `own`, returns how many contacts are on another branch than the
+    /// one chosen (0: the chosen active set is consistent at `du`).
+    pub fn add_forces(&mut self, du: &[f64], r: &mut [f64], own: bool) -> usize {
+        let law = self.law;
+        let mut inconsistent = 0;
+        for c in self.contacts.iter_mut() {
+            let (gn, gs) = c.gaps(du);
+            let resp = if own {
+                let b = law.branch(&c.params, &c.history, gn, gs);
+                if b != c.branch {
+                    inconsistent += 1;
+                }
+                law.on_branch(&c.params, &c.history, gn, gs, b)
+            } else {
+                law.on_branch(&c.params, &c.history, gn, gs, c.branch)
+            };
+            if own {
+                c.response = resp;
+            }
+            if resp.tn == 0.0 && resp.ts == 0.0 {
                 continue;
             }
-            if resp.dts_dgn != 0.0 || resp.dtn_dgs != 0.0 {
-                symmetric = false;
-            }
-            for i in 0..12 {
-                if c.dofs[i] != NO_DOF {
-                    r[c.dofs[i]] -= c.bn[i] * resp.tn + c.bs[i] * resp.ts;
+            for i in 0..CONTACT_DOFS {
+                let d = c.dofs[i];
+                if d != NO_DOF {
+                    r[d] -= c.bn[i] * resp.tn + c.bs[i] * resp.ts;
                 }
             }
-            add_tangent(
-                j,
-                &c.dofs,
-                &c.bn,
-                &c.bs,
-                [resp.dtn_dgn, resp.dtn_dgs, resp.dts_dgn, resp.dts_dgs],
-            );
         }
-        (symmetric, changed)
+        inconsistent
+    }
+
+    /// The magnitudes of the contact forces, added componentwise to `f` (for the
+    /// physical force scale of the convergence test).
+    pub fn add_force_magnitudes(&self, f: &mut [f64]) {
+        for c in &self.contacts {
+            let r = &c.response;
+            if r.tn == 0.0 && r.ts == 0.0 {
+                continue;
+            }
+            for i in 0..CONTACT_DOFS {
+                let d = c.dofs[i];
+                if d != NO_DOF {
+                    f[d] += (c.bn[i] * r.tn + c.bs[i] * r.ts).abs();
+                }
+            }
+        }
+    }
+
+    /// y += K_c v with the tangent of the chosen branches (matrix-free).
+    pub fn apply_tangent(&self, v: &[f64], y: &mut [f64]) {
+        for c in &self.contacts {
+            let [a, b, cc, d] = c.coef;
+            if a == 0.0 && b == 0.0 && cc == 0.0 && d == 0.0 {
+                continue;
+            }
+            let (gn, gs) = c.rates(v);
+            let tn = a * gn + b * gs;
+            let ts = cc * gn + d * gs;
+            for i in 0..CONTACT_DOFS {
+                let k = c.dofs[i];
+                if k != NO_DOF {
+                    y[k] += c.bn[i] * tn + c.bs[i] * ts;
+                }
+            }
+        }
+    }
+
+    /// Whether the tangent of the chosen branches is symmetric (no sliding contact with the
+    /// consistent, unsymmetric friction tangent).
+    pub fn tangent_is_symmetric(&self) -> bool {
+        self.contacts
+            .iter()
+            .all(|c| c.coef[1] == 0.0 && c.coef[2] == 0.0)
+    }
+
+    /// Add the tangent of the chosen branches into `values` (over the bound pattern).
+    /// `symmetric`: only its symmetric positive part — the normal spring and the stick shear
+    /// spring, without the unsymmetric coupling of sliding contacts (a preconditioner).
+    pub fn assemble_tangent(&self, values: &mut [f64], symmetric: bool) {
+        let n2 = CONTACT_DOFS * CONTACT_DOFS;
+        for (ci, c) in self.contacts.iter().enumerate() {
+            let [a, mut b, mut cc, d] = c.coef;
+            if symmetric {
+                b = 0.0;
+                cc = 0.0;
+            }
+            if a == 0.0 && b == 0.0 && cc == 0.0 && d == 0.0 {
+                continue;
+            }
+            let s = &self.slots[ci * n2..(ci + 1) * n2];
+            for jj in 0..CONTACT_DOFS {
+                if c.dofs[jj] == NO_DOF {
+                    continue;
+                }
+                let vn = a * c.bn[jj] + b * c.bs[jj];
+                let vs = cc * c.bn[jj] + d * c.bs[jj];
+                for ii in 0..CONTACT_DOFS {
+                    let k = s[ii * CONTACT_DOFS + jj];
+                    if k != u32::MAX {
+                        values[k as usize] += c.bn[ii] * vn + c.bs[ii] * vs;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Counts of the chosen branches.
+    pub fn counts(&self) -> BranchCounts {
+        let mut n = BranchCounts::default();
+        for c in &self.contacts {
+            match c.branch {
+                Branch::Open => n.open += 1,
+                Branch::Stick => n.stick += 1,
+                Branch::Slide(_) => n.slide += 1,
+            }
+        }
+        n
+    }
+
+    /// Elastic energy stored in the contact springs at the last evaluation:
+    /// ½ t_N²/p_N + ½ t_S²/p_S over the closed contacts.
+    pub fn spring_energy(&self) -> f64 {
+        self.contacts
+            .iter()
+            .map(|c| {
+                let r = &c.response;
+                if r.status == ContactStatus::Open {
+                    0.0
+                } else {
+                    0.5 * r.tn * r.tn / c.params.pn + 0.5 * r.ts * r.ts / c.params.ps
+                }
+            })
+            .sum()
     }
 
     /// Commit the converged increment: every contact's law response becomes its history.
     pub fn commit(&mut self, du: &[f64]) {
-        let alg = self.algorithm.unwrap_or(FrictionAlgorithm::ReturnMapping);
+        let law = self.law;
         self.commits += 1;
         self.committed.clear();
+        self.seen.clear();
         for c in self.contacts.iter_mut() {
+            self.seen.insert(c.key);
             let (gn, gs) = c.gaps(du);
-            c.response = friction::evaluate(alg, &c.params, &c.history, gn, gs);
-            let h = friction::commit(alg, &c.params, &c.history, &c.response);
+            c.response = law.response(&c.params, &c.history, gn, gs);
+            let h = law.commit(&c.params, &c.history, &c.response);
             c.history = h;
             if c.response.status != ContactStatus::Open {
                 self.committed.insert(c.key, (h, c.normal));
@@ -416,6 +756,7 @@ impl ContactSet {
                     ],
                     normal_force: r.tn.abs(),
                     shear_force: r.ts,
+                    weight: c.weight,
                     state: status_code(r.status),
                     first: c.key.0,
                     second: c.key.2,
@@ -482,5 +823,42 @@ mod tests {
         // beyond the search distance, or past the end of the edge: nothing kept
         assert!(keep_edge(&[0.5, 1.1], &b, [0.0, 1.0], 1e-3).is_none());
         assert!(keep_edge(&[1.5, 1.0], &b, [0.0, 1.0], 1e-3).is_none());
+    }
+
+    #[test]
+    fn polygon_faces_span_corner_to_corner() {
+        // a square refined with one point per edge: vertices 0,2,4,6 are corners
+        let corner = [true, false, true, false, true, false, true, false];
+        let f = polygon_faces(&corner);
+        assert_eq!(f[0], (0, 2));
+        assert_eq!(f[1], (0, 2));
+        assert_eq!(f[6], (6, 0));
+        assert_eq!(f[7], (6, 0));
+    }
+
+    #[test]
+    fn tributary_lengths_of_a_face_and_of_a_corner() {
+        // A: the bottom face of a block, refined at x = 0.3 and 0.7, lying on B's top edge y = 0
+        let a = [[0.0, 0.0], [0.3, 0.0], [0.7, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let (p0, t, n) = ([-1.0, 0.0], [1.0, 0.0], [0.0, 1.0]);
+        let w: Vec<f64> = (0..4)
+            .map(|i| tributary(&a, i, p0, t, n, -10.0, 10.0))
+            .collect();
+        // trapezoidal weights: half of each adjacent bottom segment; the sides face away
+        let want = [0.15, 0.35, 0.35, 0.15];
+        for (x, y) in w.iter().zip(want) {
+            assert!((x - y).abs() < 1e-15, "{w:?}");
+        }
+        assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+        // clipped to B's edge x ∈ [−1, 0.4] (s ∈ [0, 1.4]): vertex 1 keeps 0.1 of its
+        // right half, vertex 2 nothing
+        let c = tributary(&a, 1, p0, t, n, 0.0, 1.4);
+        assert!((c - 0.25).abs() < 1e-15, "{c}");
+        assert_eq!(tributary(&a, 2, p0, t, n, 0.0, 1.4), 0.0);
+        // a corner of a square rotated 45° touching a horizontal face: both halves project
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let d = [[0.0, 0.0], [s, s], [0.0, 2.0 * s], [-s, s]];
+        let c = tributary(&d, 0, p0, t, n, -10.0, 10.0);
+        assert!((c - s).abs() < 1e-15, "{c}");
     }
 }

@@ -14,6 +14,7 @@
 //! per element. The code keeps [`COVER_DOFS`] as the one place that fixes the cover
 //! function's order.
 
+pub mod basis;
 mod build;
 mod locate;
 pub mod mesh;

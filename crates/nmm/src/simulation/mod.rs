@@ -22,18 +22,23 @@ pub use outputs::{
     RunError, RunObserver, RunOptions, RunSummary, Silent,
 };
 
-use crate::assembly::global::{element_dofs, gather, scatter_matrix, scatter_vector, NO_DOF};
+mod step;
+
+use crate::assembly::global::{gather, NO_DOF};
 use crate::assembly::local;
 use crate::contact::set::ContactSet;
+use crate::cover::basis::{element_dofs, ElementDofs, ELEMENT_DOFS};
 use crate::cover::{discretise_through, Discretisation, MaterialPoint};
 use crate::material::{elasticity_matrix, stress as hooke, Mat3};
 use crate::model::{Mode, Model, TimeFunction};
 use crate::solver::{
-    newton, AutoSolver, NewtonOptions, NonlinearSystem, SparseMatrix, SparsePattern, StageTimes,
+    solve_piecewise, LinearStats, NewtonOptions, Regularisation, SparseMatrix, SparsePattern,
+    StageTimes, TangentSolver, MAX_REJECTIONS,
 };
 use crate::time;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+use step::{StepSystem, TangentPattern};
 
 /// A penalty spring tying one displacement component of a material point (or of
 /// a piece of edge) to a prescribed value: energy ½ Σ_ij k_ij U_i U_j − ū Σ_i g_i U_i.
@@ -60,19 +65,34 @@ pub enum StepError {
         residual: f64,
         detail: String,
     },
+    #[error("step {step} (t = {time:.6} s): out of memory ({what})")]
+    OutOfMemory {
+        step: usize,
+        time: f64,
+        what: String,
+    },
 }
 
 /// What one completed step reports.
 #[derive(Debug, Clone, Default)]
 pub struct StepReport {
-    /// Newton iterations (linear solves) of the accepted attempt.
+    /// Linear solves of the accepted attempt.
     pub iterations: usize,
+    /// Linear solves of every attempt, failed ones included.
+    pub solves: usize,
     /// How many times Δt was halved for this step.
     pub cuts: usize,
     /// Residual norms of the accepted attempt.
     pub residuals: Vec<f64>,
     /// Δt actually used.
     pub dt: f64,
+    /// Branch changes of the contacts over the iterations of the accepted attempt.
+    pub active_set_changes: usize,
+    /// Contacts in the step.
+    pub contacts: usize,
+    /// Static mode: the step ended in equilibrium (always true in dynamic mode).
+    pub equilibrium: bool,
+    pub linear: LinearStats,
 }
 
 /// Cumulative per-stage timings of a run.
@@ -80,6 +100,28 @@ pub struct StepReport {
 pub struct Timings {
     pub cover: Duration,
     pub stages: StageTimes,
+}
+
+/// The step's linear part on the element pattern, assembled through precomputed slots.
+#[derive(Debug, Clone)]
+struct LinearParts {
+    /// Elements and penalties: the tangent pattern cache around the element pattern.
+    tangent: TangentPattern,
+    /// Slots of each element's ELEMENT_DOFS² entries (row-major), `u32::MAX` for missing dofs.
+    element_slots: Vec<[u32; ELEMENT_DOFS * ELEMENT_DOFS]>,
+    penalty_slots: Vec<[u32; 9]>,
+    /// Stiffness, mass and penalty values of the current step.
+    k: Vec<f64>,
+    m: Vec<f64>,
+    p: Vec<f64>,
+    /// Element mass matrices of the step (for the right-hand side), ELEMENT_DOFS² each.
+    element_mass: Vec<[f64; ELEMENT_DOFS * ELEMENT_DOFS]>,
+    /// Body-force integrals ρ ∫ w_k per element (for gravity and base motion).
+    element_body: Vec<[f64; 3]>,
+    /// Internal force of σ_n per element.
+    element_internal: Vec<[f64; ELEMENT_DOFS]>,
+    /// The geometry step these parts were assembled for.
+    step: Option<usize>,
 }
 
 pub struct Simulation {
@@ -97,7 +139,7 @@ pub struct Simulation {
     pub stress: Vec<[f64; 3]>,
     pub contacts: ContactSet,
     pub timings: Timings,
-    pub(crate) elem_dofs: Vec<[usize; 6]>,
+    pub(crate) elem_dofs: Vec<ElementDofs>,
     /// Element areas on the initial geometry: the mass ρ A₀ of an element is conserved
     /// while its area changes with the strain.
     pub(crate) initial_area: Vec<f64>,
@@ -107,8 +149,15 @@ pub struct Simulation {
     pub(crate) functions: Vec<TimeFunction>,
     /// Material point of each point monitor (None for interface monitors).
     pub(crate) monitor_points: Vec<Option<MaterialPoint>>,
-    solver: AutoSolver,
-    pattern: Option<(Arc<SparsePattern>, Vec<Vec<usize>>)>,
+    linear: LinearParts,
+    solver: TangentSolver,
+    /// The inertia coefficient of the tangent the solver's factorisation was made for.
+    solver_cm: Option<f64>,
+    /// The contacts were detected on the current geometry (for the next step).
+    contacts_current: bool,
+    /// Increment and Δt of the last step (the predictor of the next one).
+    last_du: Vec<f64>,
+    last_dt: f64,
     /// Largest nodal displacement increment of the last step (for the contact search distance).
     last_max_du: f64,
 }
@@ -126,7 +175,7 @@ impl Simulation {
             .map_err(|e| e.to_string())?;
         let cover_time = t0.elapsed();
         let n = disc.n_dofs;
-        let elem_dofs = disc
+        let elem_dofs: Vec<ElementDofs> = disc
             .elements
             .iter()
             .map(|e| element_dofs(&disc, e))
@@ -142,6 +191,7 @@ impl Simulation {
             .iter()
             .map(|e| crate::geometry::moments::polygon_area(&e.polygon))
             .collect();
+        let empty = Arc::new(SparsePattern::from_groups(n, std::iter::empty()));
         let mut sim = Simulation {
             contacts: ContactSet::default(),
             step: 0,
@@ -160,8 +210,23 @@ impl Simulation {
             penalties: Vec::new(),
             functions: Vec::new(),
             monitor_points: Vec::new(),
-            solver: AutoSolver::default(),
-            pattern: None,
+            linear: LinearParts {
+                tangent: TangentPattern::new(empty, Vec::new()),
+                element_slots: Vec::new(),
+                penalty_slots: Vec::new(),
+                k: Vec::new(),
+                m: Vec::new(),
+                p: Vec::new(),
+                element_mass: Vec::new(),
+                element_body: Vec::new(),
+                element_internal: Vec::new(),
+                step: None,
+            },
+            solver: TangentSolver::default(),
+            solver_cm: None,
+            contacts_current: false,
+            last_du: vec![0.0; n],
+            last_dt: 0.0,
             last_max_du: 0.0,
             disc,
             model,
@@ -169,7 +234,45 @@ impl Simulation {
         setup::loads(&mut sim)?;
         setup::constraints(&mut sim)?;
         setup::monitors(&mut sim)?;
+        sim.build_element_pattern();
         Ok(sim)
+    }
+
+    /// The element pattern (elements and penalties) and the slots of every local entry.
+    fn build_element_pattern(&mut self) {
+        let mut groups: Vec<Vec<usize>> =
+            Vec::with_capacity(self.elem_dofs.len() + self.penalties.len());
+        for d in &self.elem_dofs {
+            groups.push(d.iter().copied().filter(|&x| x != NO_DOF).collect());
+        }
+        for p in &self.penalties {
+            groups.push(p.dofs.iter().copied().filter(|&x| x != NO_DOF).collect());
+        }
+        let pattern = Arc::new(crate::assembly::global::pattern(self.n_dofs(), &groups));
+        let slot = |r: usize, c: usize| -> u32 {
+            if r == NO_DOF || c == NO_DOF {
+                u32::MAX
+            } else {
+                pattern.slot(r, c).expect("element entry in its pattern") as u32
+            }
+        };
+        let lp = &mut self.linear;
+        lp.element_slots = self
+            .elem_dofs
+            .iter()
+            .map(|d| std::array::from_fn(|k| slot(d[k / ELEMENT_DOFS], d[k % ELEMENT_DOFS])))
+            .collect();
+        lp.penalty_slots = self
+            .penalties
+            .iter()
+            .map(|p| std::array::from_fn(|k| slot(p.dofs[k / 3], p.dofs[k % 3])))
+            .collect();
+        let nnz = pattern.nnz();
+        lp.k = vec![0.0; nnz];
+        lp.m = vec![0.0; nnz];
+        lp.p = vec![0.0; nnz];
+        lp.tangent = TangentPattern::new(pattern, groups);
+        lp.step = None;
     }
 
     pub fn n_dofs(&self) -> usize {
@@ -186,10 +289,6 @@ impl Simulation {
         self.time >= self.end_time() - 1e-9 * self.model.analysis.dt
     }
 
-    fn material_of_element(&self, e: usize) -> usize {
-        self.model.blocks[self.disc.elements[e].block].material
-    }
-
     /// Advance one step, cutting Δt on non-convergence.
     pub fn advance(&mut self) -> Result<StepReport, StepError> {
         let dt_full = self
@@ -198,15 +297,41 @@ impl Simulation {
             .dt
             .min(self.end_time() - self.time)
             .max(1e-12 * self.model.analysis.dt);
+        // 2. contacts on the geometry at t_n (once per step, whatever the cuts)
+        if !self.contacts_current {
+            let tc = Instant::now();
+            let search = self.search_distance();
+            self.contacts
+                .detect(&self.disc, &self.model, &self.u, search);
+            self.timings.stages.contact += tc.elapsed();
+            self.contacts_current = true;
+        }
+        self.assemble_step_parts();
         let mut dt = dt_full;
         let mut last = (f64::NAN, String::new());
+        let mut solves = 0;
         for cuts in 0..=self.model.analysis.max_step_cuts {
             match self.attempt(dt) {
                 Ok(mut rep) => {
                     rep.cuts = cuts;
+                    rep.solves = solves + rep.iterations;
                     return Ok(rep);
                 }
-                Err(e) => last = e,
+                Err(Failure::OutOfMemory(what)) => {
+                    return Err(StepError::OutOfMemory {
+                        step: self.step + 1,
+                        time: self.time,
+                        what,
+                    })
+                }
+                Err(Failure::NotConverged {
+                    residual,
+                    detail,
+                    iterations,
+                }) => {
+                    solves += iterations;
+                    last = (residual, detail);
+                }
             }
             dt *= 0.5;
         }
@@ -219,47 +344,191 @@ impl Simulation {
         })
     }
 
+    /// Element stiffness, mass, body-force integrals and internal forces on the geometry at
+    /// t_n (independent of Δt: once per step).
+    fn assemble_step_parts(&mut self) {
+        if self.linear.step == Some(self.step) {
+            return;
+        }
+        let ta = Instant::now();
+        let n_el = self.disc.elements.len();
+        let lp = &mut self.linear;
+        lp.k.iter_mut().for_each(|v| *v = 0.0);
+        lp.m.iter_mut().for_each(|v| *v = 0.0);
+        lp.p.iter_mut().for_each(|v| *v = 0.0);
+        lp.element_mass.resize(n_el, [0.0; ELEMENT_DOFS * ELEMENT_DOFS]);
+        lp.element_body.resize(n_el, [0.0; 3]);
+        lp.element_internal.resize(n_el, [0.0; ELEMENT_DOFS]);
+        for (ei, e) in self.disc.elements.iter().enumerate() {
+            let dofs = &self.elem_dofs[ei];
+            if dofs.iter().all(|&d| d == NO_DOF) {
+                continue;
+            }
+            let mat = self.model.blocks[e.block].material;
+            let it = local::element_integrals(e);
+            // conserved mass: the current density is ρ₀ A₀ / A
+            let rho = self.model.materials[mat].density * self.initial_area[ei] / it.area;
+            let k = local::stiffness(it.area, &it.grads, &self.d_mats[mat]);
+            let m = local::mass(rho, &it.int_ww, 1.0);
+            let slots = &lp.element_slots[ei];
+            for (idx, &s) in slots.iter().enumerate() {
+                if s != u32::MAX {
+                    lp.k[s as usize] += k[idx];
+                    lp.m[s as usize] += m[idx];
+                }
+            }
+            lp.element_mass[ei] = m;
+            lp.element_body[ei] = std::array::from_fn(|i| rho * it.int_w[i]);
+            lp.element_internal[ei] = local::internal_force(it.area, &it.grads, &self.stress[ei]);
+        }
+        for (p, slots) in self.penalties.iter().zip(&lp.penalty_slots) {
+            for (idx, &s) in slots.iter().enumerate() {
+                if s != u32::MAX {
+                    lp.p[s as usize] += p.k[idx];
+                }
+            }
+        }
+        lp.step = Some(self.step);
+        self.timings.stages.assembly += ta.elapsed();
+    }
+
+    /// The step's right-hand side F = f_ext(t1) − f_int(σ_n) + c_v M v_n + P-targets − P u_n,
+    /// and |f_ext| per unknown.
+    fn right_hand_side(&self, dt: f64, t1: f64, v_n: &[f64], f: &mut [f64], f_ext_abs: &mut [f64]) {
+        let cv = time::velocity_coefficient(dt);
+        let a_base = self
+            .model
+            .base_motion
+            .as_ref()
+            .map(|b| b.accel(t1))
+            .unwrap_or([0.0, 0.0]);
+        let g = self.model.analysis.gravity;
+        // body acceleration in the frame of the base: gravity − a_base
+        let b = [g[0] - a_base[0], g[1] - a_base[1]];
+        f.copy_from_slice(&self.f_load);
+        for (fa, fl) in f_ext_abs.iter_mut().zip(&self.f_load) {
+            *fa = fl.abs();
+        }
+        let lp = &self.linear;
+        for (ei, dofs) in self.elem_dofs.iter().enumerate() {
+            if dofs.iter().all(|&d| d == NO_DOF) {
+                continue;
+            }
+            let body = &lp.element_body[ei];
+            let m = &lp.element_mass[ei];
+            let ve: [f64; ELEMENT_DOFS] = gather(v_n, dofs);
+            for r in 0..ELEMENT_DOFS {
+                let d = dofs[r];
+                if d == NO_DOF {
+                    continue;
+                }
+                let fb = body[r / 2] * b[r % 2];
+                let mv: f64 = (0..ELEMENT_DOFS).map(|c| m[r * ELEMENT_DOFS + c] * ve[c]).sum();
+                f[d] += fb + cv * mv - lp.element_internal[ei][r];
+                f_ext_abs[d] += fb.abs();
+            }
+        }
+        for p in &self.penalties {
+            let target = self.functions[p.function].eval(t1);
+            let ue: [f64; 3] = gather(&self.u, &p.dofs);
+            for i in 0..3 {
+                if p.dofs[i] != NO_DOF {
+                    f[p.dofs[i]] += target * p.g[i]
+                        - (0..3).map(|j| p.k[i * 3 + j] * ue[j]).sum::<f64>();
+                }
+            }
+        }
+    }
+
     /// One attempt at a step of size dt; the state is changed only on success.
-    fn attempt(&mut self, dt: f64) -> Result<StepReport, (f64, String)> {
+    ///
+    /// Dynamic: Newton on the Newmark step from the previous increment scaled to Δt.
+    /// Static: the equilibrium under the loads of t_{n+1}, by Newton with pseudo-transient
+    /// continuation from the inertia of Δt (`solver/newton.rs`), from Δu = 0. Where that
+    /// finds no equilibrium (a mechanism: a block on a plane steeper than φ, a falling
+    /// block), DDA's quasi-static step is taken instead — the step with the inertia of Δt
+    /// and zero initial velocity — with Δt shortened until no point moves more than
+    /// [`STATIC_MAX_MOTION`] × h, and the step is reported as not in equilibrium.
+    fn attempt(&mut self, dt: f64) -> Result<StepReport, Failure> {
         let a = self.model.analysis.clone();
         let n = self.n_dofs();
         let t1 = self.time + dt;
+        let static_mode = a.mode == Mode::Static;
         // 1. predict
-        let v_n: Vec<f64> = match a.mode {
-            Mode::Static => vec![0.0; n],
-            Mode::Dynamic => self.v.clone(),
+        let v_n: Vec<f64> = if static_mode {
+            vec![0.0; n]
+        } else {
+            self.v.clone()
         };
-        // 2. detect contacts on the geometry at t_n
-        let tc = Instant::now();
-        let search = self.search_distance();
-        self.contacts
-            .detect(&self.disc, &self.model, &self.u, search);
-        self.timings.stages.contact += tc.elapsed();
-        // 3. assemble the linear part
+        let cm = time::mass_coefficient(dt);
         let ta = Instant::now();
-        let pattern = self.pattern_for_step();
-        let mut l = SparseMatrix::zeros(pattern.clone());
         let mut f = vec![0.0; n];
-        self.assemble_linear(dt, t1, &v_n, &mut l, &mut f);
+        let mut f_ext_abs = vec![0.0; n];
+        self.right_hand_side(dt, t1, &v_n, &mut f, &mut f_ext_abs);
         self.timings.stages.assembly += ta.elapsed();
-        // 4. Newton
-        let mut du = vec![0.0; n];
-        let mut jac = SparseMatrix::zeros(pattern);
-        let reference = norm(&f).max(self.force_scale());
-        let mut sys = StepSystem {
-            l: &l,
+        let rhs = Rhs {
             f: &f,
-            contacts: &mut self.contacts,
-            reference,
-            changed: true,
-            first: true,
+            f_ext_abs: &f_ext_abs,
+            t1,
         };
-        let opts = NewtonOptions {
-            max_iterations: a.max_iterations,
-            tolerance: a.tolerance,
+        let mut du = vec![0.0; n];
+        let (rep, equilibrium) = if static_mode {
+            let rep = self.solve(
+                &rhs,
+                0.0,
+                Regularisation::Continuation { initial: cm },
+                1,
+                &mut du,
+            );
+            if rep.converged || matches!(rep.error, Some(crate::solver::SolveError::OutOfMemory)) {
+                (rep, true)
+            } else {
+                // no equilibrium found: the quasi-static step, its motion limited
+                let limit = STATIC_MAX_MOTION * self.model.cover_size;
+                let mut c = cm;
+                let mut spent = rep.iterations;
+                let mut last = rep;
+                for _ in 0..4 {
+                    du.iter_mut().for_each(|x| *x = 0.0);
+                    let mut r = self.solve(
+                        &rhs,
+                        c,
+                        Regularisation::None { fallback: c },
+                        MAX_REJECTIONS,
+                        &mut du,
+                    );
+                    spent += r.iterations;
+                    r.iterations = spent;
+                    let motion = self.max_motion(&du);
+                    let done = !r.converged || motion <= limit;
+                    last = r;
+                    if done {
+                        break;
+                    }
+                    c *= 1.2 * motion / limit;
+                }
+                (last, false)
+            }
+        } else {
+            // the first iterate: the last increment, scaled to this Δt
+            if self.last_dt > 0.0 && std::env::var_os("NMM_NO_PREDICTOR").is_none() {
+                let s = dt / self.last_dt;
+                for (d, l) in du.iter_mut().zip(&self.last_du) {
+                    *d = s * l;
+                }
+            }
+            let rep = self.solve(
+                &rhs,
+                cm,
+                Regularisation::None { fallback: cm },
+                MAX_REJECTIONS,
+                &mut du,
+            );
+            (rep, true)
         };
-        let rep = newton(&mut sys, &mut jac, &mut self.solver, &mut du, opts);
-        self.timings.stages += rep.times;
+        if let Some(crate::solver::SolveError::OutOfMemory) = rep.error {
+            return Err(Failure::OutOfMemory("sparse factorisation".into()));
+        }
         if !rep.converged {
             let last = rep.residuals.last().copied().unwrap_or(f64::NAN);
             let tail: Vec<String> = rep
@@ -274,30 +543,140 @@ impl Simulation {
                 Some(e) => format!(": {e}"),
                 None => format!(" (residuals ... {})", tail.join(", ")),
             };
-            return Err((last, detail));
+            return Err(Failure::NotConverged {
+                residual: last,
+                detail,
+                iterations: rep.iterations,
+            });
         }
+        // an element whose area would change sign: the step is too large
+        if let Some(e) = self.inverted_element(&du) {
+            return Err(Failure::NotConverged {
+                residual: f64::NAN,
+                detail: format!(": manifold element {e} would be inverted"),
+                iterations: rep.iterations,
+            });
+        }
+        let counts = self.contacts.counts();
         // 6. commit
         self.commit(&du, &v_n, dt);
         Ok(StepReport {
             iterations: rep.iterations,
+            solves: rep.iterations,
             cuts: 0,
             residuals: rep.residuals,
             dt,
+            active_set_changes: rep.active_set_changes,
+            contacts: counts.open + counts.stick + counts.slide,
+            equilibrium,
+            linear: rep.linear,
         })
     }
 
-    /// The linear part of the next step's system (L, F) on the current state, with
-    /// the sparsity pattern of the current contact set: for benchmarks and tests.
+    /// Newton on the step's system with the linear part L = K + cm M + P, from the first
+    /// iterate in `du`.
+    fn solve(
+        &mut self,
+        rhs: &Rhs,
+        cm: f64,
+        regularisation: Regularisation,
+        max_rejections: usize,
+        du: &mut [f64],
+    ) -> crate::solver::NewtonReport {
+        let a = &self.model.analysis;
+        let lp = &mut self.linear;
+        let l: Vec<f64> = (0..lp.k.len())
+            .map(|i| lp.k[i] + cm * lp.m[i] + lp.p[i])
+            .collect();
+        let targets: Vec<f64> = self
+            .penalties
+            .iter()
+            .map(|p| self.functions[p.function].eval(rhs.t1))
+            .collect();
+        let opts = NewtonOptions {
+            max_iterations: a.max_iterations,
+            tolerance: a.tolerance,
+            regularisation,
+            max_rejections,
+        };
+        let mut sys = StepSystem {
+            l: &l,
+            m: &lp.m,
+            f: rhs.f,
+            f_ext_abs: rhs.f_ext_abs,
+            penalties: &self.penalties,
+            targets: &targets,
+            u_n: &self.u,
+            contacts: &mut self.contacts,
+            tangent: &mut lp.tangent,
+            sigma: 0.0,
+            scale: 0.0,
+            work: Vec::with_capacity(du.len()),
+        };
+        if self.solver_cm != Some(cm) || !matches!(regularisation, Regularisation::None { .. }) {
+            // the inertia coefficient (or the regularisation) changed
+            self.solver.invalidate();
+        }
+        self.solver_cm = Some(cm);
+        let rep = solve_piecewise(&mut sys, &mut self.solver, du, opts);
+        self.timings.stages += rep.times;
+        rep
+    }
+
+    /// The largest displacement of a mesh node under `du`.
+    fn max_motion(&self, du: &[f64]) -> f64 {
+        du.chunks(2)
+            .map(|c| c[0].hypot(*c.get(1).unwrap_or(&0.0)))
+            .fold(0.0, f64::max)
+    }
+
+    /// The first element whose triangle or polygon would change orientation under `du`.
+    fn inverted_element(&self, du: &[f64]) -> Option<usize> {
+        for (ei, e) in self.disc.elements.iter().enumerate() {
+            let ue: [f64; ELEMENT_DOFS] = gather(du, &self.elem_dofs[ei]);
+            if ue.iter().all(|&x| x == 0.0) {
+                continue;
+            }
+            let moved: [crate::geometry::Vec2; 3] =
+                std::array::from_fn(|k| [e.nodes[k][0] + ue[2 * k], e.nodes[k][1] + ue[2 * k + 1]]);
+            let a0 = crate::geometry::cross(
+                crate::geometry::sub(e.nodes[1], e.nodes[0]),
+                crate::geometry::sub(e.nodes[2], e.nodes[0]),
+            );
+            let a1 = crate::geometry::cross(
+                crate::geometry::sub(moved[1], moved[0]),
+                crate::geometry::sub(moved[2], moved[0]),
+            );
+            if a1 <= 0.0 || a1 < 1e-6 * a0 {
+                return Some(ei);
+            }
+        }
+        None
+    }
+
+    /// The linear part of the next step's system (L, F) on the current state, over the
+    /// element pattern: for benchmarks and tests.
     pub fn linear_system(&mut self) -> (SparseMatrix, Vec<f64>) {
         let dt = self.model.analysis.dt;
+        let n = self.n_dofs();
         let v_n = match self.model.analysis.mode {
-            Mode::Static => vec![0.0; self.n_dofs()],
+            Mode::Static => vec![0.0; n],
             Mode::Dynamic => self.v.clone(),
         };
-        let pattern = self.pattern_for_step();
-        let mut l = SparseMatrix::zeros(pattern);
-        let mut f = vec![0.0; self.n_dofs()];
-        self.assemble_linear(dt, self.time + dt, &v_n, &mut l, &mut f);
+        self.linear.step = None;
+        self.assemble_step_parts();
+        let cm = time::mass_coefficient(dt);
+        let lp = &self.linear;
+        let values = (0..lp.k.len())
+            .map(|i| lp.k[i] + cm * lp.m[i] + lp.p[i])
+            .collect();
+        let l = SparseMatrix {
+            pattern: lp.tangent.element().clone(),
+            values,
+        };
+        let mut f = vec![0.0; n];
+        let mut fa = vec![0.0; n];
+        self.right_hand_side(dt, self.time + dt, &v_n, &mut f, &mut fa);
         (l, f)
     }
 
@@ -307,103 +686,21 @@ impl Simulation {
         (3.0 * self.last_max_du).max(0.02 * self.model.cover_size)
     }
 
-    /// A force scale for the relative residual test when the step's load vanishes:
-    /// the largest element stiffness times 1e-9 of the model size.
-    fn force_scale(&self) -> f64 {
-        let e = self
-            .model
-            .materials
-            .iter()
-            .map(|m| m.young)
-            .fold(0.0, f64::max);
-        e * 1e-12 * self.model.cover_size
-    }
-
-    /// The sparsity pattern of this step: elements, penalties and contacts. Reused
-    /// (with its symbolic factorisation) while the contact couplings are unchanged.
-    fn pattern_for_step(&mut self) -> Arc<SparsePattern> {
-        let contact_groups = self.contacts.dof_groups();
-        if let Some((p, g)) = &self.pattern {
-            if *g == contact_groups {
-                return p.clone();
-            }
-        }
-        let mut groups: Vec<Vec<usize>> =
-            Vec::with_capacity(self.elem_dofs.len() + self.penalties.len() + contact_groups.len());
-        for d in &self.elem_dofs {
-            groups.push(d.iter().copied().filter(|&x| x != NO_DOF).collect());
-        }
-        for p in &self.penalties {
-            groups.push(p.dofs.iter().copied().filter(|&x| x != NO_DOF).collect());
-        }
-        groups.extend(contact_groups.iter().cloned());
-        let p = Arc::new(crate::assembly::global::pattern(self.n_dofs(), &groups));
-        self.pattern = Some((p.clone(), contact_groups));
-        p
-    }
-
-    /// L = K + (2/Δt²) M + P and F = f_ext(t1) − f_int(σ_n) + (2/Δt) M v_n + P-targets − P u_n.
-    fn assemble_linear(&self, dt: f64, t1: f64, v_n: &[f64], l: &mut SparseMatrix, f: &mut [f64]) {
-        let cm = time::mass_coefficient(dt);
-        let cv = time::velocity_coefficient(dt);
-        let a_base = self
-            .model
-            .base_motion
-            .as_ref()
-            .map(|b| b.accel(t1))
-            .unwrap_or([0.0, 0.0]);
-        let g = self.model.analysis.gravity;
-        // body acceleration in the frame of the base: gravity − a_base
-        let b = [g[0] - a_base[0], g[1] - a_base[1]];
-        for (ei, e) in self.disc.elements.iter().enumerate() {
-            let dofs = &self.elem_dofs[ei];
-            if dofs.iter().all(|&d| d == NO_DOF) {
-                continue;
-            }
-            let mat = self.material_of_element(ei);
-            let it = local::element_integrals(e);
-            // conserved mass: the current density is ρ₀ A₀ / A
-            let rho = self.model.materials[mat].density * self.initial_area[ei] / it.area;
-            let mut k = local::stiffness(it.area, &it.grads, &self.d_mats[mat]);
-            let m = local::mass(rho, &it.int_ww, 1.0);
-            for (kv, mv) in k.iter_mut().zip(&m) {
-                *kv += cm * mv;
-            }
-            scatter_matrix(l, dofs, &k);
-            let mut fe = local::body_force(rho, &it.int_w, b);
-            let fi = local::internal_force(it.area, &it.grads, &self.stress[ei]);
-            let ve: [f64; 6] = gather(v_n, dofs);
-            for r in 0..6 {
-                let mv: f64 = (0..6).map(|c| m[r * 6 + c] * ve[c]).sum();
-                fe[r] += cv * mv - fi[r];
-            }
-            scatter_vector(f, dofs, &fe);
-        }
-        for (fi, li) in f.iter_mut().zip(&self.f_load) {
-            *fi += li;
-        }
-        for p in &self.penalties {
-            scatter_matrix(l, &p.dofs, &p.k);
-            let target = self.functions[p.function].eval(t1);
-            let ue: [f64; 3] = gather(&self.u, &p.dofs);
-            let fp: [f64; 3] = std::array::from_fn(|i| {
-                target * p.g[i] - (0..3).map(|j| p.k[i * 3 + j] * ue[j]).sum::<f64>()
-            });
-            scatter_vector(f, &p.dofs, &fp);
-        }
-    }
-
     /// Commit a converged increment: kinematics, stresses, contacts, geometry.
     fn commit(&mut self, du: &[f64], v_n: &[f64], dt: f64) {
         for i in 0..du.len() {
             self.u[i] += du[i];
             self.v[i] = time::velocity_update(du[i], v_n[i], dt);
         }
+        if self.model.analysis.mode == Mode::Static {
+            // a static step ends at rest
+            self.v.iter_mut().for_each(|x| *x = 0.0);
+        }
         self.contacts.commit(du);
         let mut max_du = 0.0f64;
         for (ei, e) in self.disc.elements.iter_mut().enumerate() {
             let dofs = &self.elem_dofs[ei];
-            let ue: [f64; 6] = gather(du, dofs);
+            let ue: [f64; ELEMENT_DOFS] = gather(du, dofs);
             if ue.iter().all(|&x| x == 0.0) {
                 continue;
             }
@@ -417,8 +714,9 @@ impl Simulation {
             // geometry: polygon vertices move by Σ w_k Δu_k (weights on the old triangle), then the nodes
             for x in e.polygon.iter_mut() {
                 let w = crate::cover::barycentric(&e.nodes, *x);
-                x[0] += w[0] * ue[0] + w[1] * ue[2] + w[2] * ue[4];
-                x[1] += w[0] * ue[1] + w[1] * ue[3] + w[2] * ue[5];
+                let d = crate::cover::basis::interpolate(&w, &ue);
+                x[0] += d[0];
+                x[1] += d[1];
             }
             for k in 0..3 {
                 e.nodes[k][0] += ue[2 * k];
@@ -427,6 +725,9 @@ impl Simulation {
             }
         }
         self.last_max_du = max_du;
+        self.last_du.copy_from_slice(du);
+        self.last_dt = dt;
+        self.contacts_current = false;
         self.time += dt;
         self.step += 1;
     }
@@ -442,46 +743,23 @@ impl Simulation {
     }
 }
 
-fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|a| a * a).sum::<f64>().sqrt()
-}
-
-/// The step's nonlinear system for Newton: R(Δu) = F − L Δu − f_c(Δu).
-struct StepSystem<'a> {
-    l: &'a SparseMatrix,
+/// The right-hand side of a step attempt.
+struct Rhs<'a> {
     f: &'a [f64],
-    contacts: &'a mut ContactSet,
-    reference: f64,
-    changed: bool,
-    /// No evaluation yet: the next one (at Δu = 0) is the closed-contact predictor,
-    /// see `ContactSet::evaluate`.
-    first: bool,
+    f_ext_abs: &'a [f64],
+    t1: f64,
 }
 
-impl NonlinearSystem for StepSystem<'_> {
-    fn evaluate(
-        &mut self,
-        x: &[f64],
-        r: &mut [f64],
-        j: &mut SparseMatrix,
-        times: &mut StageTimes,
-    ) -> bool {
-        j.values.copy_from_slice(&self.l.values);
-        self.l.mul_vec(x, r);
-        for (ri, fi) in r.iter_mut().zip(self.f) {
-            *ri = fi - *ri;
-        }
-        let t = Instant::now();
-        let predictor = std::mem::replace(&mut self.first, false);
-        let (symmetric, changed) = self.contacts.evaluate(x, r, j, predictor);
-        times.contact += t.elapsed();
-        self.changed = changed;
-        symmetric
-    }
-    fn reference_norm(&self) -> f64 {
-        self.reference
-    }
-    fn active_set_changed(&self) -> bool {
-        self.changed
-    }
+/// Largest motion of a static step that found no equilibrium, as a fraction of the cover
+/// size h (DDA's step-by-step development of a mechanism).
+pub const STATIC_MAX_MOTION: f64 = 0.1;
+
+/// Why an attempt at a step failed.
+enum Failure {
+    NotConverged {
+        residual: f64,
+        detail: String,
+        iterations: usize,
+    },
+    OutOfMemory(String),
 }

@@ -55,8 +55,18 @@ impl RunOptions {
 pub struct RunSummary {
     pub steps: usize,
     pub time: f64,
-    /// Newton iterations of every step.
+    /// Newton iterations (linear solves) of the accepted attempt of every step.
     pub iterations: Vec<usize>,
+    /// Linear solves of every step, failed attempts included.
+    pub solves: Vec<usize>,
+    /// Contact branch changes over the Newton iterations, summed over the steps.
+    pub active_set_changes: usize,
+    /// Contacts per step.
+    pub contacts: Vec<usize>,
+    /// Static mode: steps that did not end in equilibrium.
+    pub not_in_equilibrium: usize,
+    /// Linear solver work over the run.
+    pub linear: crate::solver::LinearStats,
     /// Steps whose Δt had to be cut, with the number of cuts.
     pub cut_steps: Vec<(usize, usize)>,
     pub interrupted: bool,
@@ -309,6 +319,11 @@ pub fn run_simulation(
             ));
         }
         summary.iterations.push(rep.iterations);
+        summary.solves.push(rep.solves);
+        summary.active_set_changes += rep.active_set_changes;
+        summary.contacts.push(rep.contacts);
+        summary.not_in_equilibrium += usize::from(!rep.equilibrium);
+        summary.linear += rep.linear;
         hist.write_row(sim.step, sim.time, &monitor_values(sim), rep.iterations)
             .map_err(|e| io(&hist_path, e))?;
         let interrupted = opts

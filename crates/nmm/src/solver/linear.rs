@@ -18,6 +18,8 @@ pub enum SolveError {
     NotPositiveDefinite,
     #[error("the system matrix is singular")]
     Singular,
+    #[error("out of memory in the linear solver")]
+    OutOfMemory,
     #[error("linear solver failure: {0}")]
     Other(String),
 }

@@ -1,18 +1,30 @@
-//! Sparse linear algebra and the Newton-Raphson driver. Knows nothing of the NMM.
+//! Sparse linear algebra and the Newton driver. Knows nothing of the NMM.
 //!
 //! * [`SparsePattern`] / [`SparseMatrix`]: compressed sparse columns with a *fixed*
-//!   pattern: values are re-assembled into it every iteration, and the symbolic
-//!   factorisation is reused while the pattern is unchanged.
-//! * [`LinearSolver`]: the small trait behind which the direct solvers sit:
-//!   [`FaerCholesky`] (sparse LLᵀ, AMD ordering) for symmetric positive-definite
-//!   systems and [`FaerLu`] (sparse LU, COLAMD) for the unsymmetric consistent
-//!   friction tangent. [`AutoSolver`] picks one per factorisation.
-//! * [`newton`]: Newton-Raphson on any [`NonlinearSystem`].
+//!   pattern: values are re-assembled into it, and the symbolic factorisation is reused
+//!   while the pattern is unchanged.
+//! * [`Cholesky`]: sparse LLᵀ (faer, AMD ordering) without allocation per factorisation;
+//!   [`LinearSolver`]: the small trait behind which the direct solvers sit
+//!   ([`FaerCholesky`], [`FaerLu`], [`AutoSolver`]).
+//! * [`Gmres`]: restarted, right-preconditioned GMRES.
+//! * [`TangentSolver`]: the solve strategy with a step's tangent — a held factorisation as
+//!   the preconditioner of GMRES, refreshed when it stops paying, LU as the last resort.
+//! * [`solve_piecewise`]: semi-smooth Newton (active set) with a globalisation that never
+//!   accepts a rise of the merit, on any [`PiecewiseSystem`].
 
+mod cholesky;
+mod krylov;
 mod linear;
 mod newton;
 mod sparse;
+mod tangent;
 
+pub use cholesky::Cholesky;
+pub use krylov::{Gmres, GmresReport};
 pub use linear::{AutoSolver, FaerCholesky, FaerLu, LinearSolver, SolveError};
-pub use newton::{newton, NewtonOptions, NewtonReport, NonlinearSystem, StageTimes};
+pub use newton::{
+    solve_piecewise, NewtonOptions, NewtonReport, PiecewiseSystem, Regularisation, StageTimes,
+    MAX_REJECTIONS, MIN_STEP,
+};
 pub use sparse::{SparseMatrix, SparsePattern};
+pub use tangent::{LinearStats, TangentOperator, TangentSolver};

@@ -1,16 +1,43 @@
-//! Newton-Raphson on a nonlinear system R(x) = 0.
+//! Semi-smooth Newton on a piecewise-affine system R(x) = 0 (an active-set method).
 //!
-//! Convention: the system returns the out-of-balance force R(x) = F − f(x) and
-//! the tangent J = ∂f/∂x (for sliding contacts with the consistent friction
-//! tangent, J is unsymmetric). Each iteration solves J δ = R and sets x ← x + δ.
+//! Convention: the system returns the out-of-balance force R(x) = F − f(x); its tangent is
+//! J = ∂f/∂x. The system is made of affine pieces ("branches": a contact open, stuck or
+//! sliding), and the system chooses, at each iterate, the branch every piece is linearised
+//! on ([`PiecewiseSystem::choose_branches`], where the semi-smooth rules live). With the
+//! branches fixed the system is affine, so the iterate x + δ, with (J + σS) δ = R_b(x)
+//! (R_b: the residual on the chosen branches), is the exact solution of that active set;
+//! when the law's own branches at x + δ are the chosen ones, the next residual is zero up
+//! to the linear solve: Newton converges in one iteration once the active set is right.
 //!
-//! Convergence (as in deal.II step-42): ‖R‖ ≤ tol · ‖F_ref‖ and either the
-//! increment is small (‖δ‖ ≤ tol · ‖x‖) or the system's active set (contact
-//! states) did not change in the last iteration. The iteration count is the
-//! number of linear solves.
+//! **Globalisation.** The merit is ‖R(x)‖ (the true residual, every piece on its own
+//! branch). A step is accepted only if it lowers the merit (Armijo, 10⁻⁴); otherwise it is
+//! shortened by safeguarded quadratic interpolation of the merit along the direction,
+//! down to [`MIN_STEP`]. A rise is never accepted. When no step length lowers the merit:
+//! * if the direction came from branches the rules chose differently from the law's own
+//!   (a held stick, the closed-contact predictor), the direction is recomputed with the
+//!   law's own branches (a true semi-smooth Newton direction, a descent direction of the
+//!   merit away from kinks);
+//! * else the regularisation σ is raised (×10, from its initial value), which turns the
+//!   step towards S⁻¹R and shortens it (Levenberg–Marquardt / pseudo-transient
+//!   continuation), and the iteration goes on from the same point — it cannot stall at a
+//!   kink, because a larger σ always changes the direction;
+//! * after `max_rejections` ([`NewtonOptions`]) such rejections in a row the solve
+//!   reports failure.
+//!
+//! **Regularisation σ S** (S the system's mass matrix; [`Regularisation`]): none in dynamic
+//! analysis, whose inertia is part of R. In static analysis (pseudo-transient continuation,
+//! Kelley & Keyes 1998) σ starts at the step's inertia coefficient 2/Δt² and is lowered with
+//! the residual (switched evolution relaxation: σ ← σ ‖R_new‖/‖R_old‖), so the first
+//! direction is DDA's quasi-static step and the last ones are Newton's on the static
+//! equilibrium: the converged point is the equilibrium, whatever Δt.
+//!
+//! **Convergence**: ‖R‖ ≤ tol · F_phys for the true residual R, with F_phys the system's
+//! physical force scale (loads, weights, reactions, contact forces — never penalty targets).
+//!
+//! The iteration count is the number of linear solves, rejected directions included.
 
-use super::linear::{AutoSolver, LinearSolver, SolveError};
-use super::sparse::SparseMatrix;
+use super::linear::SolveError;
+use super::tangent::{LinearStats, TangentOperator, TangentSolver};
 use std::time::{Duration, Instant};
 
 /// Per-stage wall-clock times, summed over iterations and steps.
@@ -31,145 +58,278 @@ impl std::ops::AddAssign for StageTimes {
     }
 }
 
-pub trait NonlinearSystem {
-    /// Evaluate R(x) into `r` and the tangent into `j` (whose pattern the system
-    /// owns). Returns whether `j` is symmetric. Contact work may be timed into `times.contact`.
-    fn evaluate(
-        &mut self,
-        x: &[f64],
-        r: &mut [f64],
-        j: &mut SparseMatrix,
-        times: &mut StageTimes,
-    ) -> bool;
-    /// Scale of the forces for the relative residual test.
-    fn reference_norm(&self) -> f64;
-    /// Whether the active set (e.g. stick/slide/open states) changed during the last `evaluate`.
-    fn active_set_changed(&self) -> bool;
+/// A step's piecewise-affine system (see the module docs). The tangent operator it is (as
+/// a [`TangentOperator`]) is that of the chosen branches plus σ times the regularisation S.
+pub trait PiecewiseSystem: TangentOperator {
+    /// Choose the branch of every piece at `x` (`first`: the first iterate of the step).
+    /// Returns how many pieces changed branch.
+    fn choose_branches(&mut self, x: &[f64], first: bool) -> usize;
+    /// Choose the law's own branch of every piece at `x` (no semi-smooth rule). Returns how
+    /// many pieces changed branch.
+    fn choose_own_branches(&mut self, x: &[f64]) -> usize;
+    /// r = the residual at `x` with every piece on its chosen branch.
+    fn residual_on_chosen(&mut self, x: &[f64], r: &mut [f64]);
+    /// r = the true residual at `x` (every piece on its own branch). Returns how many pieces
+    /// are on another branch than the chosen one.
+    fn residual(&mut self, x: &[f64], r: &mut [f64]) -> usize;
+    /// The physical force scale at the last [`PiecewiseSystem::residual`].
+    fn force_scale(&self) -> f64;
+    /// Set the regularisation σ of the tangent.
+    fn set_regularisation(&mut self, sigma: f64);
+}
+
+/// The regularisation schedule.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Regularisation {
+    /// σ = 0 unless a rejected step forces it up (then from `fallback`).
+    None { fallback: f64 },
+    /// Pseudo-transient continuation from σ₀ (see the module docs).
+    Continuation { initial: f64 },
 }
 
 #[derive(Debug, Clone, Copy)]
 pub struct NewtonOptions {
     pub max_iterations: usize,
     pub tolerance: f64,
+    pub regularisation: Regularisation,
+    /// Consecutive rejected directions before the solve gives up ([`MAX_REJECTIONS`]).
+    pub max_rejections: usize,
 }
 
 #[derive(Debug, Clone, Default)]
 pub struct NewtonReport {
     pub converged: bool,
-    /// Number of linear solves.
+    /// Linear solves.
     pub iterations: usize,
-    /// ‖R‖ at every evaluation (the first is the initial residual).
+    /// ‖R‖ at every accepted iterate (the first is the initial residual).
     pub residuals: Vec<f64>,
+    /// The physical force scale at the last iterate.
+    pub force_scale: f64,
     pub times: StageTimes,
     /// Set when the linear solve failed.
     pub error: Option<SolveError>,
-    /// Total halvings of Newton steps by the line search.
+    /// Shortenings of Newton steps by the line search.
     pub backtracks: usize,
+    /// Directions rejected (no step length lowered the merit).
+    pub rejections: usize,
+    /// Full steps kept provisionally by the watchdog although they raised the merit.
+    pub provisional_steps: usize,
+    /// Pieces on another branch than the one of the last direction, at convergence.
+    pub inconsistent: usize,
+    /// Branch changes over the iterations (after the first choice).
+    pub active_set_changes: usize,
     /// Length of the last accepted increment ‖α δ‖.
     pub last_step: f64,
+    /// The regularisation σ at the end.
+    pub final_regularisation: f64,
+    pub linear: LinearStats,
 }
 
-/// How many halvings gave the step factor `alpha`.
-fn backtracks_of(alpha: f64) -> usize {
-    (-alpha.log2()).round() as usize
-}
+/// Shortest step tried by the line search, as a fraction of the Newton step.
+pub const MIN_STEP: f64 = 1.0 / 256.0;
+/// Consecutive rejected directions before the solve gives up (the default).
+pub const MAX_REJECTIONS: usize = 6;
+const ARMIJO: f64 = 1e-4;
+/// Full Newton steps that may raise the merit above the best point's before the iteration
+/// returns to that point (the watchdog).
+pub const WATCHDOG: usize = 3;
+/// Relative accuracy of the linear solves while the active set moves.
+const LOOSE: f64 = 1e-3;
+/// Whether moving active sets get loose solves (measured on the brick walls: fewer GMRES
+/// iterations per solve but more Newton iterations; off).
+const INEXACT: bool = false;
 
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|a| a * a).sum::<f64>().sqrt()
 }
 
-/// Solve R(x) = 0 from the initial guess in `x` (updated in place).
-///
-/// Each Newton direction δ is tried in full first; if the residual norm does not fall
-/// (‖R(x + δ)‖ > (1 − 10⁻⁴)‖R(x)‖), the step is halved up to [`MAX_BACKTRACKS`] times
-/// and the last trial is taken (backtracking line search). Near the solution the full
-/// step is always accepted, so the quadratic convergence is kept; far from it the line
-/// search breaks the two-state cycles that the non-smooth contact laws (open/closed,
-/// stick/slide) otherwise cause.
-pub fn newton(
-    sys: &mut dyn NonlinearSystem,
-    jac: &mut SparseMatrix,
-    solver: &mut AutoSolver,
+/// Solve R(x) = 0 from the initial guess in `x` (updated in place); see the module docs.
+pub fn solve_piecewise(
+    sys: &mut dyn PiecewiseSystem,
+    lin: &mut TangentSolver,
     x: &mut [f64],
     opts: NewtonOptions,
 ) -> NewtonReport {
     let n = x.len();
-    let mut r = vec![0.0; n];
-    let mut delta = vec![0.0; n];
-    let mut trial = vec![0.0; n];
     let mut rep = NewtonReport::default();
-    let mut symmetric = evaluate(sys, x, &mut r, jac, &mut rep.times);
-    let mut rn = norm(&r);
-    rep.residuals.push(rn);
-    let scale = sys.reference_norm().max(f64::MIN_POSITIVE);
-    for it in 0..=opts.max_iterations {
-        if !rn.is_finite() {
-            return rep;
+    let stats0 = lin.stats;
+    let mut r = vec![0.0; n];
+    let mut rb = vec![0.0; n];
+    let mut d = vec![0.0; n];
+    let mut trial = vec![0.0; n];
+    let mut rt = vec![0.0; n];
+    let (mut sigma, sigma0) = match opts.regularisation {
+        Regularisation::None { fallback } => (0.0, fallback),
+        Regularisation::Continuation { initial } => (initial, initial),
+    };
+    let continuation = matches!(opts.regularisation, Regularisation::Continuation { .. });
+
+    let t = Instant::now();
+    sys.choose_branches(x, true);
+    let mut inconsistent = sys.residual(x, &mut r);
+    rep.times.contact += t.elapsed();
+    let mut phi = norm(&r);
+    rep.residuals.push(phi);
+    let mut rejections = 0;
+    // the best point (lowest merit) so far, and the provisional steps taken from it
+    let mut best = x.to_vec();
+    let mut phi_best = phi;
+    let mut provisional = 0;
+    // the next direction is line-searched monotonically from the best point
+    let mut monotone = false;
+    // the branches were chosen by the rules (not the law's own) at this point
+    let mut overridden = true;
+    // the branches changed at the last choice (at the first iterate: assumed)
+    let mut moving = true;
+    loop {
+        let scale = sys.force_scale().max(f64::MIN_POSITIVE);
+        rep.force_scale = scale;
+        if !phi.is_finite() {
+            break;
         }
-        if it > 0 {
-            let small_r = rn <= opts.tolerance * scale;
-            let small_dx = rep.last_step <= opts.tolerance * norm(x).max(f64::MIN_POSITIVE);
-            if small_r && (small_dx || !sys.active_set_changed()) {
-                rep.converged = true;
-                return rep;
-            }
+        // The merit is the true residual (every piece on its own branch): below the
+        // tolerance, x solves the problem whatever branches the iteration held — a piece
+        // on a kink (a contact at g_N = 0, a stick force at the strength) may flip branch
+        // with no force to speak of.
+        if phi <= opts.tolerance * scale {
+            rep.converged = true;
+            rep.inconsistent = inconsistent;
+            break;
         }
-        if it == opts.max_iterations {
-            return rep;
+        if rep.iterations >= opts.max_iterations {
+            break;
         }
-        let t1 = Instant::now();
-        if let Err(e) = solver.factorize_with(jac, symmetric) {
-            rep.error = Some(e);
-            return rep;
-        }
-        let t2 = Instant::now();
-        rep.times.factorisation += t2 - t1;
-        delta.copy_from_slice(&r);
-        if let Err(e) = solver.solve_in_place(&mut delta) {
-            rep.error = Some(e);
-            return rep;
-        }
-        rep.times.solve += t2.elapsed();
+        // direction on the chosen branches
+        let t = Instant::now();
+        sys.set_regularisation(sigma);
+        sys.residual_on_chosen(x, &mut rb);
+        rep.times.assembly += t.elapsed();
+        let rbn = norm(&rb);
+        // While the active set moves, the direction only needs to be good enough to find
+        // the next set (inexact Newton, forcing term LOOSE); once the branches held still,
+        // accurate enough that this iteration converges.
+        let tight = (0.1 * opts.tolerance * scale / rbn.max(f64::MIN_POSITIVE)).clamp(1e-13, LOOSE);
+        let rtol = if moving && INEXACT { LOOSE } else { tight };
         rep.iterations += 1;
-        // backtracking line search on ‖R‖
+        if let Err(e) = lin.solve(sys, &rb, &mut d, rtol) {
+            rep.error = Some(e);
+            break;
+        }
+        // Full step, judged against the best point so far (watchdog); a monotone line
+        // search from the best point when the watchdog runs out.
         let mut alpha = 1.0;
+        let mut accepted = false;
         loop {
             for i in 0..n {
-                trial[i] = x[i] + alpha * delta[i];
+                trial[i] = x[i] + alpha * d[i];
             }
-            symmetric = evaluate(sys, &trial, &mut r, jac, &mut rep.times);
-            let rt = norm(&r);
-            if rt <= (1.0 - 1e-4 * alpha) * rn || backtracks_of(alpha) >= MAX_BACKTRACKS {
+            let t = Instant::now();
+            let inc = sys.residual(&trial, &mut rt);
+            rep.times.contact += t.elapsed();
+            let pt = norm(&rt);
+            if std::env::var_os("NMM_DEBUG_BRANCHES").is_some() {
+                eprintln!(
+                    "  it {} alpha {alpha:.3e}: merit {phi:.3e} (best {phi_best:.3e}) -> {pt:.3e} (scale {:.3e}), inconsistent {inc}, sigma {sigma:.2e}{}",
+                    rep.iterations,
+                    sys.force_scale(),
+                    if monotone { ", monotone" } else { "" }
+                );
+            }
+            let decrease = pt.is_finite() && pt <= (1.0 - ARMIJO * alpha) * phi_best;
+            let provisional_ok = !monotone && pt.is_finite() && provisional < WATCHDOG;
+            if decrease || provisional_ok {
                 x.copy_from_slice(&trial);
-                rn = rt;
+                std::mem::swap(&mut r, &mut rt);
+                inconsistent = inc;
+                rep.last_step = alpha * norm(&d);
+                if continuation {
+                    sigma *= (pt / phi).min(1.0);
+                }
+                phi = pt;
+                if decrease {
+                    best.copy_from_slice(x);
+                    phi_best = pt;
+                    provisional = 0;
+                    monotone = false;
+                } else {
+                    provisional += 1;
+                    rep.provisional_steps += 1;
+                }
+                accepted = true;
                 break;
             }
-            alpha *= 0.5;
+            if !monotone {
+                break;
+            }
+            if alpha <= MIN_STEP {
+                break;
+            }
+            // minimiser of the quadratic through φ(0), φ'(0) = −φ(0) (Newton), φ(α),
+            // kept within [α/10, α/2]
+            let next = if pt.is_finite() {
+                let (p0, pa) = (phi * phi, pt * pt);
+                let slope = -2.0 * p0;
+                let q = -slope * alpha * alpha / (2.0 * (pa - p0 - slope * alpha));
+                q.clamp(0.1 * alpha, 0.5 * alpha)
+            } else {
+                0.1 * alpha
+            };
+            alpha = next.max(MIN_STEP);
             rep.backtracks += 1;
         }
-        rep.last_step = alpha * norm(&delta);
-        rep.residuals.push(rn);
+        let t = Instant::now();
+        if accepted {
+            rejections = 0;
+            rep.residuals.push(phi);
+            let changed = sys.choose_branches(x, false);
+            rep.active_set_changes += changed;
+            moving = changed > 0;
+            overridden = true;
+        } else if !monotone {
+            // the watchdog ran out: back to the best point, a monotone step from there
+            x.copy_from_slice(&best);
+            inconsistent = sys.residual(x, &mut r);
+            phi = norm(&r);
+            provisional = 0;
+            monotone = true;
+            rep.active_set_changes += sys.choose_branches(x, false);
+            overridden = true;
+        } else {
+            rep.rejections += 1;
+            rejections += 1;
+            if rejections > opts.max_rejections {
+                rep.times.contact += t.elapsed();
+                break;
+            }
+            // a rejected direction is recomputed accurately
+            moving = false;
+            if overridden {
+                // the law's own branches at x: a true semi-smooth Newton direction
+                rep.active_set_changes += sys.choose_own_branches(x);
+                overridden = false;
+            } else {
+                sigma = if sigma > 0.0 { 10.0 * sigma } else { sigma0 };
+            }
+        }
+        rep.times.contact += t.elapsed();
     }
+    if !rep.converged && phi > phi_best {
+        // report the best point
+        x.copy_from_slice(&best);
+    }
+    rep.final_regularisation = sigma;
+    let mut ls = lin.stats;
+    ls.solves -= stats0.solves;
+    ls.gmres_iterations -= stats0.gmres_iterations;
+    ls.factorisations -= stats0.factorisations;
+    ls.symbolic_analyses -= stats0.symbolic_analyses;
+    ls.lu_factorisations -= stats0.lu_factorisations;
+    ls.factorisation_time -= stats0.factorisation_time;
+    ls.solve_time -= stats0.solve_time;
+    rep.times.factorisation += ls.factorisation_time;
+    rep.times.solve += ls.solve_time;
+    rep.linear = ls;
     rep
-}
-
-/// Most halvings of a Newton step in the line search.
-pub const MAX_BACKTRACKS: usize = 6;
-
-fn evaluate(
-    sys: &mut dyn NonlinearSystem,
-    x: &[f64],
-    r: &mut [f64],
-    jac: &mut SparseMatrix,
-    times: &mut StageTimes,
-) -> bool {
-    let t0 = Instant::now();
-    let contact_before = times.contact;
-    jac.clear();
-    let symmetric = sys.evaluate(x, r, jac, times);
-    // assembly time excludes what the system booked as contact work
-    times.assembly += t0.elapsed().saturating_sub(times.contact - contact_before);
-    symmetric
 }
 
 #[cfg(test)]
@@ -178,70 +338,205 @@ mod tests {
     use crate::solver::SparsePattern;
     use std::sync::Arc;
 
-    /// R(x) = b − (A x + c x³) componentwise-coupled: a smooth nonlinear test problem.
-    struct Cubic {
+    /// A chain of n unit springs between a wall and unknowns x_i, each unknown also resting
+    /// on a unilateral spring k_c max(0, g_i − x_i)... here: contact r_i(x) = k_c min(0, x_i + g),
+    /// with a load b: a piecewise-affine problem with a known solution.
+    struct Chain {
+        n: usize,
         b: Vec<f64>,
+        kc: f64,
+        gap: f64,
+        chosen: Vec<bool>,
+        sigma: f64,
+        pattern: Arc<SparsePattern>,
+        scale: f64,
     }
-    impl NonlinearSystem for Cubic {
-        fn evaluate(
-            &mut self,
-            x: &[f64],
-            r: &mut [f64],
-            j: &mut SparseMatrix,
-            _t: &mut StageTimes,
-        ) -> bool {
-            let n = x.len();
-            for i in 0..n {
-                let left = if i > 0 { x[i - 1] } else { 0.0 };
-                let right = if i + 1 < n { x[i + 1] } else { 0.0 };
-                r[i] = self.b[i] - (2.0 * x[i] - left - right + x[i].powi(3));
-                j.add(i, i, 2.0 + 3.0 * x[i] * x[i]);
+
+    impl Chain {
+        fn closed_own(&self, xi: f64) -> bool {
+            xi + self.gap < 0.0
+        }
+    }
+
+    impl TangentOperator for Chain {
+        fn size(&self) -> usize {
+            self.n
+        }
+        fn apply(&self, v: &[f64], y: &mut [f64]) {
+            for i in 0..self.n {
+                let mut s = (2.0 + self.sigma) * v[i];
                 if i > 0 {
-                    j.add(i, i - 1, -1.0);
+                    s -= v[i - 1];
                 }
-                if i + 1 < n {
-                    j.add(i, i + 1, -1.0);
+                if i + 1 < self.n {
+                    s -= v[i + 1];
+                }
+                if self.chosen[i] {
+                    s += self.kc * v[i];
+                }
+                y[i] = s;
+            }
+        }
+        fn pattern(&mut self) -> Arc<SparsePattern> {
+            self.pattern.clone()
+        }
+        fn assemble(&mut self, values: &mut [f64], _symmetric: bool) {
+            let p = self.pattern.clone();
+            for i in 0..self.n {
+                values[p.slot(i, i).unwrap()] +=
+                    2.0 + self.sigma + if self.chosen[i] { self.kc } else { 0.0 };
+                if i + 1 < self.n {
+                    values[p.slot(i, i + 1).unwrap()] -= 1.0;
+                    values[p.slot(i + 1, i).unwrap()] -= 1.0;
                 }
             }
-            true
         }
-        fn reference_norm(&self) -> f64 {
-            norm(&self.b)
-        }
-        fn active_set_changed(&self) -> bool {
+        fn is_symmetric(&self) -> bool {
             true
         }
     }
 
-    #[test]
-    fn newton_converges_quadratically_on_a_smooth_problem() {
-        let n = 20;
+    impl PiecewiseSystem for Chain {
+        fn choose_branches(&mut self, x: &[f64], _first: bool) -> usize {
+            self.choose_own_branches(x)
+        }
+        fn choose_own_branches(&mut self, x: &[f64]) -> usize {
+            let mut c = 0;
+            for i in 0..self.n {
+                let b = self.closed_own(x[i]);
+                c += usize::from(b != self.chosen[i]);
+                self.chosen[i] = b;
+            }
+            c
+        }
+        fn residual_on_chosen(&mut self, x: &[f64], r: &mut [f64]) {
+            for i in 0..self.n {
+                let mut f = 2.0 * x[i];
+                if i > 0 {
+                    f -= x[i - 1];
+                }
+                if i + 1 < self.n {
+                    f -= x[i + 1];
+                }
+                if self.chosen[i] {
+                    f += self.kc * (x[i] + self.gap);
+                }
+                r[i] = self.b[i] - f;
+            }
+        }
+        fn residual(&mut self, x: &[f64], r: &mut [f64]) -> usize {
+            let mut inc = 0;
+            self.scale = 0.0;
+            for i in 0..self.n {
+                let own = self.closed_own(x[i]);
+                inc += usize::from(own != self.chosen[i]);
+                let mut f = 2.0 * x[i];
+                if i > 0 {
+                    f -= x[i - 1];
+                }
+                if i + 1 < self.n {
+                    f -= x[i + 1];
+                }
+                let fc = if own { self.kc * (x[i] + self.gap) } else { 0.0 };
+                r[i] = self.b[i] - f - fc;
+                self.scale += (self.b[i].abs() + fc.abs()).powi(2);
+            }
+            self.scale = self.scale.sqrt();
+            inc
+        }
+        fn force_scale(&self) -> f64 {
+            self.scale
+        }
+        fn set_regularisation(&mut self, sigma: f64) {
+            self.sigma = sigma;
+        }
+    }
+
+    fn chain(n: usize) -> Chain {
         let groups: Vec<[usize; 2]> = (0..n - 1).map(|i| [i, i + 1]).collect();
-        let p = Arc::new(SparsePattern::from_groups(n, groups.iter().map(|g| &g[..])));
-        let mut j = SparseMatrix::zeros(p);
-        let mut sys = Cubic {
-            b: (0..n).map(|i| 1.0 + (i as f64).cos()).collect(),
-        };
-        let mut x = vec![0.0; n];
-        let mut s = AutoSolver::default();
-        let rep = newton(
+        let pattern = Arc::new(SparsePattern::from_groups(n, groups.iter().map(|g| &g[..])));
+        Chain {
+            n,
+            // pushed down in the middle, pulled up at the ends
+            b: (0..n)
+                .map(|i| -1.0 + 2.5 * ((i as f64 / (n - 1) as f64) - 0.5).powi(2) * 4.0)
+                .collect(),
+            kc: 1e4,
+            gap: 0.5,
+            chosen: vec![false; n],
+            sigma: 0.0,
+            pattern,
+            scale: 0.0,
+        }
+    }
+
+    #[test]
+    fn active_set_newton_converges_exactly_once_the_set_is_right() {
+        let mut sys = chain(40);
+        let mut x = vec![0.0; 40];
+        let mut lin = TangentSolver::default();
+        let rep = solve_piecewise(
             &mut sys,
-            &mut j,
-            &mut s,
+            &mut lin,
             &mut x,
             NewtonOptions {
                 max_iterations: 30,
                 tolerance: 1e-12,
+                regularisation: Regularisation::None { fallback: 1.0 },
+                max_rejections: MAX_REJECTIONS,
             },
         );
         assert!(rep.converged, "{rep:?}");
-        // quadratic: r_{k+1} / r_k^2 stays bounded in the last iterations
-        let r = &rep.residuals;
-        let k = r.len() - 2;
-        assert!(
-            r[k] < 1e-6 && r[k + 1] <= 10.0 * r[k] * r[k] + 1e-14,
-            "{r:?}"
+        // the last accepted iterate is exact: its residual is round-off
+        let last = *rep.residuals.last().unwrap();
+        assert!(last <= 1e-12 * rep.force_scale, "{:?}", rep.residuals);
+        // some contacts closed, some open
+        let closed = sys.chosen.iter().filter(|&&c| c).count();
+        assert!(closed > 0 && closed < 40, "{closed}");
+        assert!(rep.iterations <= 8, "{rep:?}");
+        // the best merit never rose, and a rise was kept at most WATCHDOG times in a row
+        let (mut best, mut run) = (f64::INFINITY, 0);
+        for &r in &rep.residuals {
+            if r < best {
+                best = r;
+                run = 0;
+            } else {
+                run += 1;
+                assert!(run <= WATCHDOG, "{:?}", rep.residuals);
+            }
+        }
+        assert_eq!(best, last);
+    }
+
+    #[test]
+    fn continuation_converges_to_the_unregularised_solution() {
+        let mut a = chain(30);
+        let mut xa = vec![0.0; 30];
+        let mut lin = TangentSolver::default();
+        let opts = |reg| NewtonOptions {
+            max_iterations: 60,
+            tolerance: 1e-12,
+            regularisation: reg,
+            max_rejections: MAX_REJECTIONS,
+        };
+        let ra = solve_piecewise(
+            &mut a,
+            &mut lin,
+            &mut xa,
+            opts(Regularisation::Continuation { initial: 5.0 }),
         );
-        assert_eq!(s.symbolic_count(), 1);
+        assert!(ra.converged, "{ra:?}");
+        let mut b = chain(30);
+        let mut xb = vec![0.0; 30];
+        let rb = solve_piecewise(
+            &mut b,
+            &mut TangentSolver::default(),
+            &mut xb,
+            opts(Regularisation::None { fallback: 1.0 }),
+        );
+        assert!(rb.converged);
+        let err = xa.iter().zip(&xb).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+        assert!(err < 1e-9, "{err}");
+        assert!(ra.final_regularisation < 5.0 * 1e-6, "{}", ra.final_regularisation);
     }
 }

@@ -1,4 +1,70 @@
-//! Seeded generators of models (TOML text) for benchmarks, scaling studies and tests.
+//! Model generators (TOML text that `nmm run` reads) for benchmarks, scaling studies and tests:
+//! a seeded elastic block ([`elastic_block`]), the running-bond brick wall of the peer
+//! comparison with ntdda ([`brick_wall_model`]) and a jointed rock slope
+//! ([`jointed_slope_model`]).
+
+mod slope;
+mod wall;
+
+pub use slope::{
+    jointed_slope_model, slope_geometry, SlopeGeometry, SlopeOptions, SLOPE_DENSITY,
+    SLOPE_FRICTION_ANGLE, SLOPE_PENALTY, SLOPE_POISSON, SLOPE_YOUNG,
+};
+pub use wall::{
+    brick_wall_model, wall_base_extent, wall_course_offset, wall_geometry, WallGeometry,
+    WallOptions, WALL_BASE_DEPTH, WALL_BRICK_HEIGHT, WALL_BRICK_LENGTH, WALL_FRICTION_ANGLE,
+    WALL_PENALTY, WALL_POISSON, WALL_UNIT_WEIGHT, WALL_YOUNG,
+};
+
+use crate::geometry::Vec2;
+
+/// `x` as C's `%.9g` (Python's `f"{x:.9g}"`), the brick wall's coordinates.
+pub fn fmt_g9(x: f64) -> String {
+    fmt_g(x, 9)
+}
+
+/// `x` as C's `%.{p}g`: `p` significant digits, trailing zeros dropped, exponent form
+/// (`e+09`, `e-05`) below 1e-4 and from 10^p.
+pub fn fmt_g(x: f64, p: usize) -> String {
+    let p = p.max(1);
+    if x == 0.0 || !x.is_finite() {
+        return if x == 0.0 { "0".into() } else { x.to_string() };
+    }
+    let e = format!("{x:.*e}", p - 1);
+    let (mant, exp) = e.split_once('e').expect("exponent form");
+    let exp: i32 = exp.parse().expect("exponent");
+    let strip = |s: &str| {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s.to_string()
+        }
+    };
+    if (-4..p as i32).contains(&exp) {
+        strip(&format!("{x:.*}", (p as i32 - 1 - exp) as usize))
+    } else {
+        format!(
+            "{}e{}{:02}",
+            strip(mant),
+            if exp < 0 { '-' } else { '+' },
+            exp.abs()
+        )
+    }
+}
+
+/// `x` exactly (shortest round-trip form, a TOML float), −0 written as 0.
+pub fn fmt_exact(x: f64) -> String {
+    format!("{:?}", x + 0.0)
+}
+
+/// A polygon as a TOML array with [`fmt_g9`] coordinates.
+fn fmt_poly(p: &[Vec2]) -> String {
+    let v: Vec<String> = p
+        .iter()
+        .map(|q| format!("[{}, {}]", fmt_g9(q[0]), fmt_g9(q[1])))
+        .collect();
+    format!("[{}]", v.join(", "))
+}
 
 /// xorshift64*: a tiny reproducible generator (no dependency needed for a few numbers).
 pub struct Rng(u64);

@@ -4,8 +4,10 @@
 //! 1. **predict**: static mode resets the velocity to zero;
 //! 2. **detect contacts** on the geometry at t_n ([`ContactSet::detect`]); the
 //!    contact kinematics are linear in the step's increment Δu (small displacement per step);
-//! 3. **assemble** the step's linear part, once: L = K + (2/Δt²) M + P (constraint
-//!    penalties) and F = f_ext(t_{n+1}) − f_int(σ_n) + (2/Δt) M v_n + (penalty targets);
+//! 3. **assemble** the step's linear part, once: L = K + (2/Δt²) M + (2/Δt) C + P
+//!    (C = αM + βK, Rayleigh damping per material, dynamic mode only; P the constraint
+//!    penalties) and F = f_ext(t_{n+1}) − f_int(σ_n) + (2/Δt) M v_n + C v_n + (penalty
+//!    targets) (see [`crate::time`] for the derivation);
 //! 4. **Newton-Raphson** on R(Δu) = F − L Δu − f_c(Δu): at each iterate the contacts are
 //!    return-mapped from their committed state and add their force and consistent tangent;
 //! 5. if Newton fails, the step is **cut** (Δt halved) and retried;
@@ -27,7 +29,7 @@ use crate::assembly::local;
 use crate::contact::set::ContactSet;
 use crate::cover::{discretise_through, Discretisation, MaterialPoint};
 use crate::material::{elasticity_matrix, stress as hooke, Mat3};
-use crate::model::{Mode, Model, TimeFunction};
+use crate::model::{Mode, Model, Rayleigh, TimeFunction};
 use crate::solver::{
     newton, AutoSolver, NewtonOptions, NonlinearSystem, SparseMatrix, SparsePattern, StageTimes,
 };
@@ -342,10 +344,12 @@ impl Simulation {
         p
     }
 
-    /// L = K + (2/Δt²) M + P and F = f_ext(t1) − f_int(σ_n) + (2/Δt) M v_n + P-targets − P u_n.
+    /// L = K + (2/Δt²) M + (2/Δt) C + P and
+    /// F = f_ext(t1) − f_int(σ_n) + (2/Δt) M v_n + C v_n + P-targets − P u_n.
     fn assemble_linear(&self, dt: f64, t1: f64, v_n: &[f64], l: &mut SparseMatrix, f: &mut [f64]) {
         let cm = time::mass_coefficient(dt);
         let cv = time::velocity_coefficient(dt);
+        let cd = time::damping_coefficient(dt);
         let a_base = self
             .model
             .base_motion
@@ -366,17 +370,24 @@ impl Simulation {
             let rho = self.model.materials[mat].density * self.initial_area[ei] / it.area;
             let mut k = local::stiffness(it.area, &it.grads, &self.d_mats[mat]);
             let m = local::mass(rho, &it.int_ww, 1.0);
-            for (kv, mv) in k.iter_mut().zip(&m) {
-                *kv += cm * mv;
-            }
-            scatter_matrix(l, dofs, &k);
+            // Rayleigh damping C = αM + βK: (2/Δt) C on the matrix, C v_n on the right
+            let damping = match self.model.analysis.mode {
+                Mode::Dynamic => self.model.materials[mat].damping,
+                Mode::Static => Rayleigh::default(),
+            };
             let mut fe = local::body_force(rho, &it.int_w, b);
             let fi = local::internal_force(it.area, &it.grads, &self.stress[ei]);
             let ve: [f64; 6] = gather(v_n, dofs);
             for r in 0..6 {
                 let mv: f64 = (0..6).map(|c| m[r * 6 + c] * ve[c]).sum();
-                fe[r] += cv * mv - fi[r];
+                let kv: f64 = (0..6).map(|c| k[r * 6 + c] * ve[c]).sum();
+                fe[r] += (cv + damping.alpha) * mv + damping.beta * kv - fi[r];
             }
+            let (ck, cmass) = (1.0 + cd * damping.beta, cm + cd * damping.alpha);
+            for (kv, mv) in k.iter_mut().zip(&m) {
+                *kv = ck * *kv + cmass * mv;
+            }
+            scatter_matrix(l, dofs, &k);
             scatter_vector(f, dofs, &fe);
         }
         for (fi, li) in f.iter_mut().zip(&self.f_load) {

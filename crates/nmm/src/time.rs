@@ -1,5 +1,5 @@
-//! Newmark time integration with β = 1/2, γ = 1 (as in DDA), the static mode, and Rayleigh
-//! damping in the step's equations.
+//! Newmark time integration with β = 1/2, γ = 1 (as in DDA), the static mode, Rayleigh
+//! damping in the step's equations, and the times of the step grid.
 //!
 //! u_{n+1} = u_n + Δt v_n + ½ Δt² a_{n+1},   v_{n+1} = v_n + Δt a_{n+1}.
 //!
@@ -34,6 +34,12 @@
 //!
 //! Static mode (DDA's quasi-static analysis) resets the velocity to zero at the start of
 //! every step, so each step is a damped move toward equilibrium.
+//!
+//! # Times
+//! The time at the end of step k of a stage that starts at t₀ is t₀ + kΔt, computed by
+//! [`grid_time`] from k (never by summing Δt, which drifts: ten steps of 0.1 sum to
+//! 0.9999999999999999) and, when t₀ and Δt are short decimals, as the double nearest to the
+//! exact decimal t₀ + kΔt (so 3 × 0.1 is 0.3, not 0.30000000000000004).
 
 /// Coefficient of M Δu in the step's equations: 2/Δt².
 pub fn mass_coefficient(dt: f64) -> f64 {
@@ -131,6 +137,52 @@ pub fn log_decrement(omega_dt: f64, zeta: f64) -> f64 {
 /// The exact free vibration's logarithmic decrement 2πζ/√(1 − ζ²) (ζ < 1).
 pub fn exact_log_decrement(zeta: f64) -> f64 {
     std::f64::consts::TAU * zeta / (1.0 - zeta * zeta).sqrt()
+}
+
+/// Exact powers of ten 10⁰ … 10²² (every one is a double).
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// `x` as n × 10^(−e) from its shortest round-trip decimal form, e.g. 0.001 → (1, 3),
+/// 2.5 → (25, 1), 300 → (300, 0); `None` if that needs more than 10²² as the scale.
+fn decimal(x: f64) -> Option<(i128, u32)> {
+    if !x.is_finite() {
+        return None;
+    }
+    let s = format!("{x:e}"); // e.g. "-1.25e-3"
+    let (mantissa, exp) = s.split_once('e')?;
+    let exp: i32 = exp.parse().ok()?;
+    let (int, frac) = mantissa.split_once('.').unwrap_or((mantissa, ""));
+    let n: i128 = format!("{int}{frac}").parse().ok()?;
+    let scale = frac.len() as i32 - exp;
+    if scale >= 0 {
+        (scale <= 22).then_some((n, scale as u32))
+    } else {
+        Some((n.checked_mul(10i128.checked_pow((-scale) as u32)?)?, 0))
+    }
+}
+
+/// The time t₀ + kΔt at the end of full step `k` of a step grid that starts at `t0`.
+///
+/// When t₀ and Δt are short decimals (their shortest round-trip forms n₀·10^(−e₀) and
+/// n·10^(−e)) and the exact decimal numerator of t₀ + kΔt = N / 10^E fits in 53 bits, the
+/// result is the one division N / 10^E of two exact doubles, i.e. the double nearest to
+/// the decimal value: `grid_time(0.0, 3, 0.1)` is 0.3 and `grid_time(0.0, 50, 0.001)` is
+/// 0.05. Otherwise it is t₀ + k·Δt, rounded once (never a sum over steps).
+pub fn grid_time(t0: f64, k: u64, dt: f64) -> f64 {
+    let exact = || -> Option<f64> {
+        let ((n0, e0), (n, e)) = (decimal(t0)?, decimal(dt)?);
+        let big = e0.max(e);
+        let a = n0.checked_mul(10i128.checked_pow(big - e0)?)?;
+        let b = (k as i128)
+            .checked_mul(n)?
+            .checked_mul(10i128.checked_pow(big - e)?)?;
+        let num = a.checked_add(b)?;
+        (num.unsigned_abs() <= 1u128 << 53).then(|| num as f64 / POW10[big as usize])
+    };
+    exact().unwrap_or(t0 + k as f64 * dt)
 }
 
 #[cfg(test)]
@@ -272,5 +324,31 @@ mod tests {
         let d = log_decrement(o, 0.05);
         assert!((d / exact_log_decrement(0.05) - 1.0).abs() < 0.01, "{d}");
         assert!(d > exact_log_decrement(0.05));
+    }
+
+    #[test]
+    fn grid_times_are_the_nearest_doubles_to_the_decimals() {
+        assert_eq!(grid_time(0.0, 3, 0.1), 0.3);
+        assert_eq!(grid_time(0.0, 50, 0.001), 0.05);
+        assert_eq!(grid_time(0.0, 10, 0.1), 1.0);
+        assert_eq!(grid_time(2.5, 7, 0.01), 2.57);
+        assert_eq!(grid_time(0.0, 0, 0.001), 0.0);
+        assert_eq!(grid_time(-1.0, 3, 0.5), 0.5);
+        assert_eq!(grid_time(0.0, 123_456, 1e-5), 1.23456);
+        assert_eq!(grid_time(0.0, 4, 1e3), 4000.0);
+        // a Δt that is no short decimal: one rounding of t₀ + kΔt
+        let dt = 1.0 / 3.0;
+        assert_eq!(grid_time(0.0, 3000, dt), 3000.0 * dt);
+        let dt = std::f64::consts::PI * 1e-3;
+        assert_eq!(grid_time(1.0, 77, dt), 1.0 + 77.0 * dt);
+        // summing drifts, the grid does not
+        let mut t = 0.0;
+        for k in 1..=1000u64 {
+            t += 0.001;
+            let g = grid_time(0.0, k, 0.001);
+            assert_eq!(g, format!("{}", k as f64 / 1000.0).parse::<f64>().unwrap());
+        }
+        assert_ne!(t, 1.0);
+        assert_eq!(grid_time(0.0, 1000, 0.001), 1.0);
     }
 }

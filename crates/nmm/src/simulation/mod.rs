@@ -10,7 +10,9 @@
 //!    targets) (see [`crate::time`] for the derivation);
 //! 4. **Newton-Raphson** on R(Δu) = F − L Δu − f_c(Δu): at each iterate the contacts are
 //!    return-mapped from their committed state and add their force and consistent tangent;
-//! 5. if Newton fails, the step is **cut** (Δt halved) and retried;
+//! 5. if Newton fails, the step is **cut** (Δt halved) and retried; the next steps then
+//!    cover the rest of the interval, so that full steps end on the grid t₀ + kΔt
+//!    ([`time::grid_time`]) as in a run without cuts;
 //! 6. **commit**: u, v (Newmark β = ½, γ = 1), stresses σ += D B Δu, contact states;
 //! 7. **update geometry**: element nodes and polygons move with the material.
 //!
@@ -113,6 +115,12 @@ pub struct Simulation {
     pattern: Option<(Arc<SparsePattern>, Vec<Vec<usize>>)>,
     /// Largest nodal displacement increment of the last step (for the contact search distance).
     last_max_du: f64,
+    /// t₀ of the step grid: after k full steps the time is t₀ + kΔt.
+    time_origin: f64,
+    /// Full steps (intervals of Δt) completed since `time_origin`.
+    full_steps: u64,
+    /// Time already covered in the current interval by cut steps (0 on the grid).
+    partial: f64,
 }
 
 impl Simulation {
@@ -165,6 +173,9 @@ impl Simulation {
             solver: AutoSolver::default(),
             pattern: None,
             last_max_du: 0.0,
+            time_origin: 0.0,
+            full_steps: 0,
+            partial: 0.0,
             disc,
             model,
         };
@@ -180,27 +191,23 @@ impl Simulation {
 
     /// End time of the analysis.
     pub fn end_time(&self) -> f64 {
-        self.model.analysis.dt * self.model.analysis.steps as f64
+        let a = &self.model.analysis;
+        time::grid_time(self.time_origin, a.steps as u64, a.dt)
     }
 
-    /// Whether the analysis has reached its end time.
+    /// Whether the analysis has reached its end time (completed all its full steps).
     pub fn finished(&self) -> bool {
-        self.time >= self.end_time() - 1e-9 * self.model.analysis.dt
+        self.full_steps >= self.model.analysis.steps as u64
     }
 
     fn material_of_element(&self, e: usize) -> usize {
         self.model.blocks[self.disc.elements[e].block].material
     }
 
-    /// Advance one step, cutting Δt on non-convergence.
+    /// Advance one step, cutting Δt on non-convergence. The step covers the rest of the
+    /// current interval of Δt (all of it unless an earlier step was cut).
     pub fn advance(&mut self) -> Result<StepReport, StepError> {
-        let dt_full = self
-            .model
-            .analysis
-            .dt
-            .min(self.end_time() - self.time)
-            .max(1e-12 * self.model.analysis.dt);
-        let mut dt = dt_full;
+        let mut dt = self.model.analysis.dt - self.partial;
         let mut last = (f64::NAN, String::new());
         for cuts in 0..=self.model.analysis.max_step_cuts {
             match self.attempt(dt) {
@@ -438,8 +445,22 @@ impl Simulation {
             }
         }
         self.last_max_du = max_du;
-        self.time += dt;
+        self.advance_clock(dt);
         self.step += 1;
+    }
+
+    /// The clock after a committed step of `dt`: a step that covered the rest of its
+    /// interval ends on the grid, t = t₀ + kΔt; a cut one ends at t₀ + kΔt + (time covered).
+    fn advance_clock(&mut self, dt: f64) {
+        let step = self.model.analysis.dt;
+        // `dt` is the remainder itself (same expression as in `advance`) or a half of it
+        if dt >= step - self.partial {
+            self.full_steps += 1;
+            self.partial = 0.0;
+        } else {
+            self.partial += dt;
+        }
+        self.time = time::grid_time(self.time_origin, self.full_steps, step) + self.partial;
     }
 
     /// Displacement (in the frame of the base) at a material point.

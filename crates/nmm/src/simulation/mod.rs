@@ -189,6 +189,28 @@ impl Simulation {
         self.disc.n_dofs
     }
 
+    /// Unknowns of each block (0 for a fixed block).
+    pub fn unknowns_per_block(&self) -> Vec<usize> {
+        let mut n = vec![0; self.model.blocks.len()];
+        for c in &self.disc.covers {
+            if c.dof.is_some() {
+                n[c.block] += crate::cover::COVER_DOFS;
+            }
+        }
+        n
+    }
+
+    /// The model's warnings ([`crate::model::warnings`]) and those about its cover
+    /// ([`crate::model::warnings::cover_warnings`]), one line each.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = crate::model::warnings(&self.model);
+        w.extend(crate::model::warnings::cover_warnings(
+            &self.model,
+            &self.unknowns_per_block(),
+        ));
+        w
+    }
+
     /// End time of the analysis.
     pub fn end_time(&self) -> f64 {
         let a = &self.model.analysis;

@@ -10,7 +10,12 @@ fn run(model: &str, dir: &Path) -> String {
     std::fs::write(&path, model).unwrap();
     let out = dir.join("out");
     let o = Command::new(env!("CARGO_BIN_EXE_nmm"))
-        .args(["run", path.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -45,7 +50,12 @@ fn times_are_short_decimals_of_the_step_grid() {
     }
     assert_eq!(t[49], "0.05");
     let pvd = std::fs::read_to_string(dir.path().join("out/blocks.pvd")).unwrap();
-    for want in ["timestep=\"0\"", "timestep=\"0.05\"", "timestep=\"0.1\"", "timestep=\"0.3\""] {
+    for want in [
+        "timestep=\"0\"",
+        "timestep=\"0.05\"",
+        "timestep=\"0.1\"",
+        "timestep=\"0.3\"",
+    ] {
         assert!(pvd.contains(want), "{want} not in {pvd}");
     }
 }
@@ -72,7 +82,14 @@ fn cut_steps_rejoin_the_step_grid() {
         .collect();
     assert_eq!(full, ["1", "2", "3", "4", "5"], "{t:?}");
     // the cut steps cover the first interval exactly
-    let first: Vec<f64> = t.iter().map(|s| s.parse().unwrap()).take_while(|&x| x < 1.0).collect();
-    assert!(!first.is_empty() && first.windows(2).all(|w| w[0] < w[1]), "{t:?}");
+    let first: Vec<f64> = t
+        .iter()
+        .map(|s| s.parse().unwrap())
+        .take_while(|&x| x < 1.0)
+        .collect();
+    assert!(
+        !first.is_empty() && first.windows(2).all(|w| w[0] < w[1]),
+        "{t:?}"
+    );
     assert_eq!(t.last().unwrap(), "5");
 }

@@ -22,8 +22,9 @@ mod outputs;
 mod setup;
 
 pub use outputs::{
-    blocks_grid, contacts_grid, history_columns, monitor_values, run, run_observed, run_simulation,
-    RunError, RunObserver, RunOptions, RunSummary, Silent,
+    blocks_grid, contacts_grid, history_columns, monitor_values, peak_memory_bytes, run,
+    run_observed, run_simulation, write_block_table, RunError, RunObserver, RunOptions, RunStatus,
+    RunSummary, Silent,
 };
 
 use crate::assembly::global::{element_dofs, gather, scatter_matrix, scatter_vector, NO_DOF};

@@ -83,3 +83,33 @@ fn coarse_steps_decay_by_the_discrete_amplification() {
         assert!((d / want - 1.0).abs() < 0.02, "δ {d} vs {want}");
     }
 }
+
+/// Static mode resets the velocity every step and has no damping term: a damped material
+/// settles exactly as an undamped one; in dynamic mode the same damping changes the motion.
+#[test]
+fn static_mode_ignores_damping() {
+    let text = |mode: &str, damping: &str| {
+        format!(
+            "[analysis]\nmode = \"{mode}\"\ndt = 0.001\nsteps = 20\ngravity = [0.0, -9.81]\n\
+             [cover]\nsize = 0.25\n\
+             [[material]]\nname = \"m\"\ndensity = 2500.0\nyoung = 1.0e7\npoisson = 0.2\n{damping}\n\
+             [[block]]\nname = \"column\"\nmaterial = \"m\"\nvertices = [[0.0, 0.0], [0.5, 0.0], [0.5, 2.0], [0.0, 2.0]]\n\
+             [[constraint]]\nblock = \"column\"\nedge = [[0.0, 0.0], [0.5, 0.0]]\nux = 0.0\nuy = 0.0\n\
+             [[monitor]]\nname = \"top\"\npoint = [0.25, 2.0]\n"
+        )
+    };
+    let top = |text: String| {
+        let model = nmm::model::parse_model(&text, std::path::Path::new(".")).unwrap();
+        let mut sim = nmm::simulation::Simulation::new(model).unwrap();
+        while !sim.finished() {
+            sim.advance().unwrap();
+        }
+        nmm::simulation::monitor_values(&sim)[1]
+    };
+    let damped = "damping = { alpha = 50.0, beta = 0.01 }";
+    let (s0, s1) = (top(text("static", "")), top(text("static", damped)));
+    assert!(s0 < 0.0);
+    assert_eq!(s0.to_bits(), s1.to_bits(), "{s0} vs {s1}");
+    let (d0, d1) = (top(text("dynamic", "")), top(text("dynamic", damped)));
+    assert!((d0 - d1).abs() > 0.05 * d0.abs(), "{d0} vs {d1}");
+}

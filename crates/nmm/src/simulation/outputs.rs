@@ -35,7 +35,8 @@ pub trait RunObserver {
     fn message(&mut self, _line: &str) {}
     /// A warning about the model ([`Simulation::warnings`]), one line, before the first step.
     fn warning(&mut self, _line: &str) {}
-    /// The run ended: finished, interrupted or failed.
+    /// The run ended: finished, interrupted or failed. (Not called when the model could not
+    /// be discretised: that run never started.)
     fn finish(&mut self, _status: RunStatus) {}
 }
 
@@ -432,7 +433,6 @@ pub fn run_observed(
                 out_dir: out.to_path_buf(),
                 ..Default::default()
             };
-            observer.finish(RunStatus::Failed);
             let _ = summary.write_json(&out.join("summary.json"));
             return Err(RunError::Setup(e));
         }

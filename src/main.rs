@@ -32,9 +32,17 @@ enum Command {
         /// Do not write VTK frames.
         #[arg(long)]
         no_vtk: bool,
+        /// Do not print the model's warnings (they stay in DIR/summary.json).
+        #[arg(long)]
+        quiet: bool,
     },
     /// Validate a model and print a summary (blocks, covers, elements, unknowns) without running it.
-    Check { model: PathBuf },
+    Check {
+        model: PathBuf,
+        /// Do not print the model's warnings.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Run the verification set against closed forms and references; write a report.
     Verify {
         /// Report folder (report.md and plots).
@@ -59,8 +67,9 @@ fn main() -> ExitCode {
             out,
             friction,
             no_vtk,
-        } => run(&model, &out, friction.as_deref(), !no_vtk),
-        Command::Check { model } => check(&model),
+            quiet,
+        } => run(&model, &out, friction.as_deref(), !no_vtk, quiet),
+        Command::Check { model, quiet } => check(&model, quiet),
         Command::Verify { out, full } => verify(&out, full),
         Command::Figures { out } => figures(&out),
     };
@@ -78,9 +87,14 @@ fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
-fn check(path: &Path) -> anyhow::Result<ExitCode> {
+fn check(path: &Path, quiet: bool) -> anyhow::Result<ExitCode> {
     let model = nmm::model::load_model(path)?;
     let sim = nmm::simulation::Simulation::new(model).map_err(anyhow::Error::msg)?;
+    if !quiet {
+        for w in sim.warnings() {
+            eprintln!("warning: {w}");
+        }
+    }
     let m = &sim.model;
     println!("model: {}", path.display());
     println!(
@@ -108,7 +122,13 @@ fn check(path: &Path) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn run(path: &Path, out: &Path, friction: Option<&str>, vtk: bool) -> anyhow::Result<ExitCode> {
+fn run(
+    path: &Path,
+    out: &Path,
+    friction: Option<&str>,
+    vtk: bool,
+    quiet: bool,
+) -> anyhow::Result<ExitCode> {
     let mut model = nmm::model::load_model(path)?;
     if let Some(f) = friction {
         model.analysis.friction = match f {
@@ -132,8 +152,9 @@ fn run(path: &Path, out: &Path, friction: Option<&str>, vtk: bool) -> anyhow::Re
     let opts = nmm::simulation::RunOptions {
         interrupt: Some(stop),
         vtk,
+        model_path: Some(path.to_path_buf()),
     };
-    let mut bar = progress::Progress::new(model.analysis.steps, true);
+    let mut bar = progress::Progress::new(model.analysis.steps, true).quiet(quiet);
     let summary = nmm::simulation::run_observed(model, out, &opts, &mut bar)
         .with_context(|| format!("{}", path.display()))?;
     let t = summary.timings;

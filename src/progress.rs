@@ -3,7 +3,11 @@
 //! Owns only the terminal display (through `indicatif`). The bar is drawn only when it is
 //! enabled *and* stderr is a terminal (`std::io::IsTerminal`); otherwise (a pipe, a file, CI)
 //! nothing is drawn, so logs stay clean. Messages given to [`Progress::println`] are always
-//! written to stderr, one per line: above the bar when it is drawn, plainly otherwise.
+//! written to stderr, one per line: above the bar when it is drawn, plainly otherwise; the
+//! model's warnings (`warning: …`) likewise, unless the bar is quiet ([`Progress::quiet`]).
+//!
+//! A run that finishes leaves the bar full; an interrupted or failed one leaves it where the
+//! run stopped (never a false 100% before "interrupted").
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
@@ -15,6 +19,7 @@ const TEMPLATE: &str =
 pub struct Progress {
     bar: ProgressBar,
     drawn: bool,
+    quiet: bool,
 }
 
 impl Progress {
@@ -33,7 +38,17 @@ impl Progress {
         if let Ok(style) = ProgressStyle::with_template(TEMPLATE) {
             bar.set_style(style.progress_chars("=> "));
         }
-        Self { bar, drawn }
+        Self {
+            bar,
+            drawn,
+            quiet: false,
+        }
+    }
+
+    /// Hide the model's warnings (`--quiet`).
+    pub fn quiet(mut self, quiet: bool) -> Self {
+        self.quiet = quiet;
+        self
     }
 
     /// Whether the bar is drawn.
@@ -65,9 +80,17 @@ impl Progress {
         }
     }
 
-    /// Leaves the bar in its final state (drawn bars stay on screen).
-    pub fn finish(&self) {
-        self.bar.finish();
+    /// Leaves the bar in its final state (drawn bars stay on screen): full if the run
+    /// finished, at the last completed step if it was interrupted or failed.
+    pub fn finish(&self, status: nmm::simulation::RunStatus) {
+        match status {
+            nmm::simulation::RunStatus::Finished => self.bar.finish(),
+            _ => self.bar.abandon(),
+        }
+        if self.drawn {
+            // indicatif leaves the cursor at the end of the bar's line
+            eprintln!();
+        }
     }
 }
 
@@ -95,8 +118,13 @@ impl nmm::simulation::RunObserver for Progress {
     fn message(&mut self, line: &str) {
         self.println(line);
     }
-    fn finish(&mut self) {
-        Progress::finish(self);
+    fn warning(&mut self, line: &str) {
+        if !self.quiet {
+            self.println(format!("warning: {line}"));
+        }
+    }
+    fn finish(&mut self, status: nmm::simulation::RunStatus) {
+        Progress::finish(self, status);
     }
 }
 
@@ -111,6 +139,7 @@ impl Drop for Progress {
 #[cfg(test)]
 mod tests {
     use super::{format_time, Progress};
+    use nmm::simulation::{RunObserver, RunStatus};
 
     #[test]
     fn times_are_short() {
@@ -127,7 +156,19 @@ mod tests {
         assert!(!p.is_drawn());
         p.set(3, 0.25);
         assert_eq!(p.position(), 3);
-        p.finish();
+        p.finish(RunStatus::Finished);
+        assert_eq!(p.position(), 10);
+    }
+
+    #[test]
+    fn an_interrupted_run_does_not_fill_the_bar() {
+        for status in [RunStatus::Interrupted, RunStatus::Failed] {
+            let mut p = Progress::with_terminal(10, false);
+            p.start(0, 10);
+            p.step_done(4, 0.004);
+            RunObserver::finish(&mut p, status);
+            assert_eq!(p.position(), 4, "{status:?}");
+        }
     }
 
     #[test]

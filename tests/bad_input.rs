@@ -243,6 +243,61 @@ fn values_out_of_range() {
 }
 
 #[test]
+fn bad_damping() {
+    let place = "[[material]] \"limestone\": key `damping`";
+    let cases: &[(&str, &str, &[&str])] = &[
+        (
+            "negative alpha",
+            "{ alpha = -1.0 }",
+            &["`alpha` must be ≥ 0, got -1"],
+        ),
+        ("nan beta", "{ beta = nan }", &["`beta`", "NaN"]),
+        ("not a table", "0.05", &["expected a table", "float 0.05"]),
+        ("unknown key", "{ zeta = 0.05 }", &["unknown key `zeta`"]),
+        ("empty", "{}", &["empty table"]),
+        (
+            "both forms",
+            "{ alpha = 1.0, ratio = 0.05, frequencies = [1.0, 5.0] }",
+            &["not both"],
+        ),
+        (
+            "ratio alone",
+            "{ ratio = 0.05 }",
+            &["`frequencies = [f1, f2]` (Hz) is required"],
+        ),
+        (
+            "frequencies alone",
+            "{ frequencies = [1.0, 5.0] }",
+            &["`ratio` is required"],
+        ),
+        (
+            "ratio too large",
+            "{ ratio = 1.5, frequencies = [1.0, 5.0] }",
+            &["[0, 1], got 1.5"],
+        ),
+        (
+            "zero frequency",
+            "{ ratio = 0.05, frequencies = [0.0, 5.0] }",
+            &["must be positive"],
+        ),
+        (
+            "three frequencies",
+            "{ ratio = 0.05, frequencies = [1.0, 2.0, 5.0] }",
+            &["`frequencies`", "3 items"],
+        ),
+    ];
+    for (case, value, expect) in cases {
+        let text = mutate(
+            "poisson = 0.33",
+            &format!("poisson = 0.33\ndamping = {value}"),
+        );
+        let mut all = vec![place, "model.toml, line 17)"];
+        all.extend_from_slice(expect);
+        assert_rejected(case, &text, &all);
+    }
+}
+
+#[test]
 fn non_finite_numbers() {
     assert_rejected(
         "nan dt",

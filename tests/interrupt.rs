@@ -1,5 +1,6 @@
 //! Ctrl-C (SIGINT) stops a run cleanly: exit status 130, every row written so far in
-//! history.csv complete and parseable, the VTK collections valid.
+//! history.csv complete and parseable, the VTK collections valid, summary.json with status
+//! "interrupted" and the steps done.
 
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -61,6 +62,24 @@ fn sigint_keeps_every_output_written_so_far() {
     }
     assert!((50..100000).contains(&rows), "{rows} rows");
     assert!(text.ends_with('\n'));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "interrupted");
+    assert!(summary["error"].is_null());
+    assert_eq!(summary["steps"].as_u64(), Some(rows as u64));
+    assert_eq!(
+        summary["iterations"]["total"]
+            .as_u64()
+            .map(|t| t >= rows as u64),
+        Some(true)
+    );
+    let stderr = {
+        use std::io::Read;
+        let mut s = String::new();
+        child.stderr.take().unwrap().read_to_string(&mut s).unwrap();
+        s
+    };
+    assert!(stderr.contains("interrupted at step"), "{stderr}");
     // the collections list frames that exist
     for pvd in ["blocks.pvd", "contacts.pvd"] {
         let s = std::fs::read_to_string(out.join(pvd)).unwrap();

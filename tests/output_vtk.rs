@@ -4,7 +4,7 @@
 
 use base64::Engine;
 use nmm::output::vtk::{write_vtu_with, Encoding};
-use nmm::output::{write_vtu, Cell, DataArray, Grid, PvdWriter};
+use nmm::output::{write_vtu, Cell, DataArray, FieldStrings, Grid, PvdWriter};
 use quick_xml::events::Event;
 use std::collections::HashMap;
 use std::path::Path;
@@ -151,6 +151,7 @@ fn sample_grid() -> Grid {
             DataArray::int32("block", vec![0, -1, i32::MAX]),
             DataArray::int32("state", vec![0, 1, 2]),
         ],
+        field_data: vec![],
     }
 }
 
@@ -268,6 +269,56 @@ fn empty_grid_is_a_valid_file() {
     assert!(i32s(piece.child("CellData").array("state")).is_empty());
 }
 
+/// Field data: the names as NUL-terminated UTF-8 bytes in one UInt8 array before the
+/// piece, in both encodings; a NUL inside a name or a repeated array name is refused.
+#[test]
+fn field_strings_are_nul_terminated_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let names = vec![
+        "base".to_string(),
+        "sl,\"ider\" é".to_string(),
+        String::new(),
+    ];
+    let mut grid = sample_grid();
+    grid.field_data
+        .push(FieldStrings::new("block_names", names.clone()));
+    let want: Vec<u8> = names.iter().flat_map(|n| n.bytes().chain([0])).collect();
+    for encoding in [Encoding::Binary, Encoding::Ascii] {
+        let path = dir.path().join(format!("{encoding:?}.vtu"));
+        write_vtu_with(&path, &grid, encoding).unwrap();
+        let root = parse(&path);
+        let ug = root
+            .child("UnstructuredGrid")
+            .child("FieldData")
+            .array("block_names");
+        assert_eq!(ug.attr("type"), "UInt8");
+        assert_eq!(ug.attr("NumberOfTuples"), want.len().to_string());
+        let bytes = match encoding {
+            Encoding::Binary => decode(ug),
+            Encoding::Ascii => ug
+                .text
+                .split_whitespace()
+                .map(|t| t.parse::<u8>().unwrap())
+                .collect(),
+        };
+        assert_eq!(bytes, want, "{encoding:?}");
+        let back: Vec<String> = String::from_utf8(bytes)
+            .unwrap()
+            .split('\0')
+            .map(str::to_string)
+            .collect();
+        assert_eq!(back[..3], names[..], "{encoding:?}");
+    }
+    let mut bad = grid.clone();
+    bad.field_data[0].values.push("a\0b".into());
+    assert!(write_vtu(&dir.path().join("bad.vtu"), &bad).is_err());
+    let mut twice = grid.clone();
+    twice
+        .field_data
+        .push(FieldStrings::new("block_names", vec![]));
+    assert!(write_vtu(&dir.path().join("twice.vtu"), &twice).is_err());
+}
+
 #[test]
 fn names_with_xml_characters_are_escaped() {
     let dir = tempfile::tempdir().unwrap();
@@ -277,6 +328,7 @@ fn names_with_xml_characters_are_escaped() {
         cells: vec![Cell::vertex(0)],
         point_data: vec![DataArray::scalars("a<b & \"c\"", vec![1.0])],
         cell_data: vec![],
+        field_data: vec![],
     };
     write_vtu(&path, &grid).unwrap();
     let piece = parse(&path);

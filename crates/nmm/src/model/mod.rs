@@ -14,14 +14,19 @@
 //! non-overlapping polygons re-oriented counter-clockwise; load and
 //! constraint segments on block boundaries) at the tolerance
 //! `1e-9 × (bounding-box diagonal of all blocks)`.
+//!
+//! A valid model that is likely to mislead (nothing holds it, lengths in mm, a normal
+//! penalty far from E) gets one-line [`warnings`], never an error.
 
 mod lines;
 mod reader;
 mod types;
 mod validate;
+pub mod warnings;
 pub use reader::MAX_COORD;
 pub use types::*;
 pub use validate::REL_TOL;
+pub use warnings::warnings;
 
 use std::path::Path;
 

@@ -120,7 +120,8 @@ fn example_parses_with_expected_values() {
             density: 2243.0,
             young: 7.0e9,
             poisson: 0.33,
-            plane: Plane::Strain
+            plane: Plane::Strain,
+            damping: Rayleigh::default(),
         }]
     );
     let names: Vec<&str> = m.blocks.iter().map(|b| b.name.as_str()).collect();
@@ -598,4 +599,51 @@ fn base_motion_and_monitor_errors() {
 fn errors_are_one_line() {
     let e = err_with("name = \"joint\"", "name = \"a\\nb\"");
     assert!(!e.contains('\n'), "{e}");
+}
+
+#[test]
+fn damping_in_both_forms() {
+    let with = |value: &str| {
+        parse(&EXAMPLE.replacen(
+            "poisson = 0.33",
+            &format!("poisson = 0.33\ndamping = {value}"),
+            1,
+        ))
+        .unwrap()
+        .materials[0]
+            .damping
+    };
+    assert_eq!(
+        with("{ alpha = 0.5 }"),
+        Rayleigh {
+            alpha: 0.5,
+            beta: 0.0
+        }
+    );
+    assert_eq!(
+        with("{ beta = 1e-3 }"),
+        Rayleigh {
+            alpha: 0.0,
+            beta: 1e-3
+        }
+    );
+    let r = with("{ ratio = 0.05, frequencies = [2.0, 20.0] }");
+    for f in [2.0, 20.0] {
+        let z = r.ratio_at(std::f64::consts::TAU * f);
+        assert!((z - 0.05).abs() < 1e-14, "{z}");
+    }
+    assert!(r.ratio_at(std::f64::consts::TAU * 6.0) < 0.05);
+    // equal frequencies: the minimum ζ is at f
+    let r = with("{ ratio = 0.02, frequencies = [5.0, 5.0] }");
+    let w = std::f64::consts::TAU * 5.0;
+    assert!((r.ratio_at(w) - 0.02).abs() < 1e-15);
+    assert!(r.ratio_at(0.9 * w) > 0.02 && r.ratio_at(1.1 * w) > 0.02);
+    // a sub-table works too, and no damping is zero damping
+    let sub = EXAMPLE.replacen(
+        "poisson = 0.33",
+        "poisson = 0.33\n[material.damping]\nalpha = 2.0",
+        1,
+    );
+    assert_eq!(parse(&sub).unwrap().materials[0].damping.alpha, 2.0);
+    assert!(parse(EXAMPLE).unwrap().materials[0].damping.is_zero());
 }

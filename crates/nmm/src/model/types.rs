@@ -58,6 +58,45 @@ pub struct Material {
     pub young: f64,
     pub poisson: f64,
     pub plane: Plane,
+    /// Extension: Rayleigh damping of the material (zero: undamped).
+    pub damping: Rayleigh,
+}
+
+/// Rayleigh (proportional) damping C = α M + β K of one material, in the material's own
+/// elements (contact and constraint penalty springs are not damped).
+///
+/// A mode of angular frequency ω gets the damping ratio ζ(ω) = α/(2ω) + βω/2: the mass
+/// term damps low frequencies, the stiffness term high ones.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Rayleigh {
+    /// Mass-proportional coefficient α (1/s), ≥ 0.
+    pub alpha: f64,
+    /// Stiffness-proportional coefficient β (s), ≥ 0.
+    pub beta: f64,
+}
+
+impl Rayleigh {
+    /// The α, β that give the damping ratio `zeta` at the two frequencies `f1`, `f2` (Hz):
+    /// with ω_i = 2π f_i, α = 2ζ ω₁ω₂/(ω₁ + ω₂) and β = 2ζ/(ω₁ + ω₂). Between the two
+    /// frequencies ζ(ω) is below `zeta`, outside them above. With f₁ = f₂ = f, ζ(ω) has
+    /// its minimum `zeta` at f.
+    pub fn from_ratio(zeta: f64, f1: f64, f2: f64) -> Rayleigh {
+        let (w1, w2) = (std::f64::consts::TAU * f1, std::f64::consts::TAU * f2);
+        Rayleigh {
+            alpha: 2.0 * zeta * w1 * w2 / (w1 + w2),
+            beta: 2.0 * zeta / (w1 + w2),
+        }
+    }
+
+    /// The damping ratio ζ(ω) = α/(2ω) + βω/2 of a mode of angular frequency `omega` (rad/s).
+    pub fn ratio_at(&self, omega: f64) -> f64 {
+        self.alpha / (2.0 * omega) + self.beta * omega / 2.0
+    }
+
+    /// Whether the material is damped at all.
+    pub fn is_zero(&self) -> bool {
+        self.alpha == 0.0 && self.beta == 0.0
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -12,8 +12,8 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 use super::lines::Doc;
 use super::reader::{
-    array, array_of_tables, boolean, error, fmt_num, fmt_point, integer, number, pair, point,
-    points, segment, string, table, Fields, R,
+    array, array_of_tables, boolean, describe, error, fmt_num, fmt_point, integer, number, pair,
+    point, points, segment, string, table, Fields, R,
 };
 use super::*;
 use crate::geometry::polygon::{
@@ -200,7 +200,7 @@ fn materials(root: &Doc) -> R<Vec<Material>> {
         let mut f = root.fields(format!("[[material]] #{}", i + 1), t, "material", Some(i));
         let name = f.name("name")?;
         f.set_place(format!("[[material]] {name:?}"));
-        f.deny_unknown(&["name", "density", "young", "poisson", "plane"])?;
+        f.deny_unknown(&["name", "density", "young", "poisson", "plane", "damping"])?;
         if let Some(k) = out.iter().position(|m| m.name == name) {
             return Err(f.err(
                 "name",
@@ -220,15 +220,92 @@ fn materials(root: &Doc) -> R<Vec<Material>> {
             "stress" => Plane::Stress,
             _ => Plane::Strain,
         };
+        let damping = damping(&f)?;
         out.push(Material {
             name,
             density,
             young,
             poisson,
             plane,
+            damping,
         });
     }
     Ok(out)
+}
+
+/// `damping = { alpha = …, beta = … }` (either may be left out: 0) or
+/// `damping = { ratio = ζ, frequencies = [f1, f2] }` (Hz), converted by [`Rayleigh::from_ratio`].
+fn damping(f: &Fields) -> R<Rayleigh> {
+    let table = |v: &Value| {
+        match v {
+        Value::Table(t) => Ok(t.clone()),
+        other => Err(format!(
+            "expected a table {{ alpha = …, beta = … }} or {{ ratio = …, frequencies = [f1, f2] }}, got {}",
+            describe(other)
+        )),
+    }
+    };
+    let Some(t) = f.opt("damping", table)? else {
+        return Ok(Rayleigh::default());
+    };
+    let bad = |msg: String| f.err("damping", msg);
+    if let Some(k) = t
+        .keys()
+        .find(|k| !["alpha", "beta", "ratio", "frequencies"].contains(&k.as_str()))
+    {
+        return Err(bad(format!(
+            "unknown key `{}` (allowed: alpha, beta, or ratio with frequencies)",
+            k.escape_debug()
+        )));
+    }
+    let num = |k: &str| -> R<Option<f64>> {
+        t.get(k)
+            .map(|v| number(v).map_err(|e| bad(format!("`{k}`: {e}"))))
+            .transpose()
+    };
+    let direct = t.contains_key("alpha") || t.contains_key("beta");
+    let by_ratio = t.contains_key("ratio") || t.contains_key("frequencies");
+    if direct && by_ratio {
+        return Err(bad(
+            "give either `alpha`/`beta` or `ratio` with `frequencies`, not both".into(),
+        ));
+    }
+    if direct {
+        let mut r = Rayleigh::default();
+        for (k, slot) in [("alpha", &mut r.alpha), ("beta", &mut r.beta)] {
+            if let Some(x) = num(k)? {
+                if !(x >= 0.0) {
+                    return Err(bad(format!("`{k}` must be ≥ 0, got {}", fmt_num(x))));
+                }
+                *slot = x;
+            }
+        }
+        return Ok(r);
+    }
+    if !by_ratio {
+        return Err(bad(
+            "empty table: give `alpha` and/or `beta`, or `ratio` with `frequencies`".into(),
+        ));
+    }
+    let zeta = num("ratio")?.ok_or_else(|| bad("`ratio` is required with `frequencies`".into()))?;
+    if !(0.0..=1.0).contains(&zeta) {
+        return Err(bad(format!(
+            "`ratio` must be in [0, 1], got {}",
+            fmt_num(zeta)
+        )));
+    }
+    let freqs = t
+        .get("frequencies")
+        .ok_or_else(|| bad("`frequencies = [f1, f2]` (Hz) is required with `ratio`".into()))?;
+    let [f1, f2] = pair(freqs).map_err(|e| bad(format!("`frequencies`: {e}")))?;
+    if !(f1 > 0.0 && f2 > 0.0) {
+        return Err(bad(format!(
+            "`frequencies` must be positive (Hz), got [{}, {}]",
+            fmt_num(f1),
+            fmt_num(f2)
+        )));
+    }
+    Ok(Rayleigh::from_ratio(zeta, f1, f2))
 }
 
 /// Read the blocks (names, materials, vertex lists); geometry is checked later.

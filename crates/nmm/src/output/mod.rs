@@ -1,17 +1,18 @@
 //! Everything a run writes to its output folder, in generic form: the writers know nothing of
 //! NMM types; the simulation fills them with plain numbers, names and cells.
 //!
-//! # Output folder layout (`nmm run MODEL.toml --out DIR`)
+//! # Output folder layout (`nmm run MODEL.toml --out DIR`; every file in `docs/outputs.md`)
 //! ```text
 //! DIR/
-//!   history.csv            one row per step: step,time,<monitor columns...>,iterations
-//!   blocks.pvd             ParaView collection of the block frames (open this one)
-//!   blocks_000000.vtu      deformed blocks at frame 0: polygons, displacement, stress, ...
-//!   blocks_000010.vtu      ... one frame every `output_every` steps (NNNNNN = step number)
-//!   contacts.pvd           ParaView collection of the contact frames
-//!   contacts_000000.vtu    contacts at frame 0: vertices/lines with forces and states
+//!   history.csv                one row per step: step,time,<monitor columns...>,iterations
+//!   blocks.csv                 the block table: id,name,material,fixed (id = VTK `block`)
+//!   summary.json               how the run went: status, steps, iterations, timings, warnings
+//!   blocks.pvd                 ParaView collection of the block frames (open this one)
+//!   contacts.pvd               ParaView collection of the contact frames
+//!   vtk/blocks_000000.vtu      deformed blocks at frame 0: polygons, displacement, stress, ...
+//!   vtk/blocks_000010.vtu      ... one frame every `output_every` steps (NNNNNN = step number)
+//!   vtk/contacts_000000.vtu    contact points at frame 0 with forces and states
 //!   ...
-//!   <name>.png, <name>.svg plots (e.g. monitor histories), the same figure in both formats
 //! ```
 //! * [`history`]: `history.csv`, shortest round-trip numbers, flushed as it goes.
 //! * [`vtk`]: `.vtu` unstructured grids (base64 binary) and `.pvd` collections, rewritten
@@ -27,7 +28,7 @@ pub mod vtk;
 
 pub use history::HistoryWriter;
 pub use plot::{plot_panels, LineStyle, Panel, PlotError, Series, Stroke};
-pub use vtk::{write_vtu, Cell, CellKind, DataArray, Grid, PvdWriter, Values};
+pub use vtk::{write_vtu, Cell, CellKind, DataArray, FieldStrings, Grid, PvdWriter, Values};
 
 /// File name of frame `step` of a series, e.g. `frame_file_name("blocks", 42)` is
 /// `blocks_000042.vtu` (at least six digits; more if `step` needs them).

@@ -25,8 +25,17 @@
 //!
 //! Cells are described by `connectivity` (Int64, point indices of all cells concatenated),
 //! `offsets` (Int64, for each cell the index in `connectivity` one past its last point) and
-//! `types` (UInt8, the type codes above). An empty grid (no points, no cells) is valid: its
-//! arrays are empty.
+//! `types` (UInt8, the type codes above). An empty grid (no points, no cells) is valid VTK:
+//! its arrays are empty, as VTK itself writes an empty grid, and VTK's reader reads it. (meshio
+//! 5.3 cannot read any unstructured grid without cells, VTK's own included; that is why the run
+//! driver omits contact frames without contacts.)
+//!
+//! # Field data
+//! Arrays of strings for the whole grid ([`FieldStrings`], e.g. block names) go in
+//! `<FieldData>` before the `<Piece>`, as one `UInt8` `DataArray` of `NumberOfTuples` bytes:
+//! every string's UTF-8 bytes followed by a 0 byte (in Python:
+//! `bytes(a).decode().split("\0")[:-1]`). Not VTK's `type="String"` array: VTK and ParaView read
+//! that, but meshio 5.3 refuses the whole file over it.
 //!
 //! # Collections
 //! [`PvdWriter`] keeps the list of `(time, file)` frames and rewrites the whole `.pvd` after
@@ -186,13 +195,34 @@ impl DataArray {
     }
 }
 
-/// An unstructured grid: 2-D points, cells over them, and arrays on points and cells.
+/// A named array of strings that belongs to the whole grid (VTK field data), e.g. the block
+/// names that a cell array of block ids refers to.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FieldStrings {
+    /// Name shown by ParaView; unique among the grid's field arrays.
+    pub name: String,
+    /// The strings, which must not contain a NUL character.
+    pub values: Vec<String>,
+}
+
+impl FieldStrings {
+    pub fn new(name: impl Into<String>, values: Vec<String>) -> Self {
+        Self {
+            name: name.into(),
+            values,
+        }
+    }
+}
+
+/// An unstructured grid: 2-D points, cells over them, arrays on points and cells, and
+/// string arrays for the whole grid.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Grid {
     pub points: Vec<[f64; 2]>,
     pub cells: Vec<Cell>,
     pub point_data: Vec<DataArray>,
     pub cell_data: Vec<DataArray>,
+    pub field_data: Vec<FieldStrings>,
 }
 
 /// How data array bodies are written.
@@ -237,6 +267,13 @@ fn write_valid_grid<W: Write>(w: &mut W, grid: &Grid, encoding: Encoding) -> io:
         r#"<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">"#
     )?;
     writeln!(w, "  <UnstructuredGrid>")?;
+    if !grid.field_data.is_empty() {
+        writeln!(w, "    <FieldData>")?;
+        for a in &grid.field_data {
+            write_strings(w, a, encoding)?;
+        }
+        writeln!(w, "    </FieldData>")?;
+    }
     writeln!(
         w,
         r#"    <Piece NumberOfPoints="{n_points}" NumberOfCells="{n_cells}">"#
@@ -338,7 +375,22 @@ fn validate(grid: &Grid) -> io::Result<()> {
         }
     }
     check_arrays("point", &grid.point_data, n_points)?;
-    check_arrays("cell", &grid.cell_data, grid.cells.len())
+    check_arrays("cell", &grid.cell_data, grid.cells.len())?;
+    for (k, a) in grid.field_data.iter().enumerate() {
+        if a.name.is_empty() {
+            return Err(invalid(format!("field array {k} has no name")));
+        }
+        if grid.field_data[..k].iter().any(|b| b.name == a.name) {
+            return Err(invalid(format!("field array `{}` appears twice", a.name)));
+        }
+        if a.values.iter().any(|v| v.contains('\0')) {
+            return Err(invalid(format!(
+                "field array `{}` has a string with a NUL character",
+                a.name
+            )));
+        }
+    }
+    Ok(())
 }
 
 fn check_arrays(place: &str, arrays: &[DataArray], n_tuples: usize) -> io::Result<()> {
@@ -381,6 +433,42 @@ fn check_arrays(place: &str, arrays: &[DataArray], n_tuples: usize) -> io::Resul
         }
     }
     Ok(())
+}
+
+/// A [`FieldStrings`] as NUL-terminated UTF-8 bytes in a `UInt8` field array (module doc).
+fn write_strings<W: Write>(w: &mut W, a: &FieldStrings, encoding: Encoding) -> io::Result<()> {
+    let mut bytes = Vec::new();
+    for v in &a.values {
+        bytes.extend_from_slice(v.as_bytes());
+        bytes.push(0);
+    }
+    let format = match encoding {
+        Encoding::Binary => "binary",
+        Encoding::Ascii => "ascii",
+    };
+    write!(
+        w,
+        r#"      <DataArray type="UInt8" Name="{}" NumberOfComponents="1" NumberOfTuples="{}" format="{format}">"#,
+        escape(&a.name),
+        bytes.len()
+    )?;
+    match encoding {
+        Encoding::Binary => {
+            let mut raw = Vec::with_capacity(8 + bytes.len());
+            raw.extend_from_slice(&(bytes.len() as u64).to_le_bytes());
+            raw.extend_from_slice(&bytes);
+            w.write_all(
+                base64::engine::general_purpose::STANDARD
+                    .encode(&raw)
+                    .as_bytes(),
+            )?;
+        }
+        Encoding::Ascii => {
+            let text: Vec<String> = bytes.iter().map(|b| b.to_string()).collect();
+            w.write_all(text.join(" ").as_bytes())?;
+        }
+    }
+    writeln!(w, "</DataArray>")
 }
 
 fn write_data_array<W: Write>(w: &mut W, a: &DataArray, encoding: Encoding) -> io::Result<()> {

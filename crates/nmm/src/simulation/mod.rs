@@ -4,11 +4,15 @@
 //! 1. **predict**: static mode resets the velocity to zero;
 //! 2. **detect contacts** on the geometry at t_n ([`ContactSet::detect`]); the
 //!    contact kinematics are linear in the step's increment Δu (small displacement per step);
-//! 3. **assemble** the step's linear part, once: L = K + (2/Δt²) M + P (constraint
-//!    penalties) and F = f_ext(t_{n+1}) − f_int(σ_n) + (2/Δt) M v_n + (penalty targets);
+//! 3. **assemble** the step's linear part, once: L = K + (2/Δt²) M + (2/Δt) C + P
+//!    (C = αM + βK, Rayleigh damping per material, dynamic mode only; P the constraint
+//!    penalties) and F = f_ext(t_{n+1}) − f_int(σ_n) + (2/Δt) M v_n + C v_n + (penalty
+//!    targets) (see [`crate::time`] for the derivation);
 //! 4. **Newton-Raphson** on R(Δu) = F − L Δu − f_c(Δu): at each iterate the contacts are
 //!    return-mapped from their committed state and add their force and consistent tangent;
-//! 5. if Newton fails, the step is **cut** (Δt halved) and retried;
+//! 5. if Newton fails, the step is **cut** (Δt halved) and retried; the next steps then
+//!    cover the rest of the interval, so that full steps end on the grid t₀ + kΔt
+//!    ([`time::grid_time`]) as in a run without cuts;
 //! 6. **commit**: u, v (Newmark β = ½, γ = 1), stresses σ += D B Δu, contact states;
 //! 7. **update geometry**: element nodes and polygons move with the material.
 //!
@@ -18,8 +22,9 @@ mod outputs;
 mod setup;
 
 pub use outputs::{
-    blocks_grid, contacts_grid, history_columns, monitor_values, run, run_observed, run_simulation,
-    RunError, RunObserver, RunOptions, RunSummary, Silent,
+    blocks_grid, contacts_grid, history_columns, monitor_values, peak_memory_bytes, run,
+    run_observed, run_simulation, write_block_table, RunError, RunObserver, RunOptions, RunStatus,
+    RunSummary, Silent,
 };
 
 mod step;
@@ -114,6 +119,8 @@ struct LinearParts {
     k: Vec<f64>,
     m: Vec<f64>,
     p: Vec<f64>,
+    /// Rayleigh damping C = αM + βK (per material; dynamic mode only), or empty.
+    c: Vec<f64>,
     /// Element mass matrices of the step (for the right-hand side), ELEMENT_DOFS² each.
     element_mass: Vec<[f64; ELEMENT_DOFS * ELEMENT_DOFS]>,
     /// Body-force integrals ρ ∫ w_k per element (for gravity and base motion).
@@ -160,6 +167,12 @@ pub struct Simulation {
     last_dt: f64,
     /// Largest nodal displacement increment of the last step (for the contact search distance).
     last_max_du: f64,
+    /// t₀ of the step grid: after k full steps the time is t₀ + kΔt.
+    time_origin: f64,
+    /// Full steps (intervals of Δt) completed since `time_origin`.
+    full_steps: u64,
+    /// Time already covered in the current interval by cut steps (0 on the grid).
+    partial: f64,
 }
 
 impl Simulation {
@@ -217,6 +230,7 @@ impl Simulation {
                 k: Vec::new(),
                 m: Vec::new(),
                 p: Vec::new(),
+                c: Vec::new(),
                 element_mass: Vec::new(),
                 element_body: Vec::new(),
                 element_internal: Vec::new(),
@@ -228,6 +242,9 @@ impl Simulation {
             last_du: vec![0.0; n],
             last_dt: 0.0,
             last_max_du: 0.0,
+            time_origin: 0.0,
+            full_steps: 0,
+            partial: 0.0,
             disc,
             model,
         };
@@ -271,6 +288,9 @@ impl Simulation {
         lp.k = vec![0.0; nnz];
         lp.m = vec![0.0; nnz];
         lp.p = vec![0.0; nnz];
+        let damped = self.model.analysis.mode == Mode::Dynamic
+            && self.model.materials.iter().any(|m| !m.damping.is_zero());
+        lp.c = if damped { vec![0.0; nnz] } else { Vec::new() };
         lp.tangent = TangentPattern::new(pattern, groups);
         lp.step = None;
     }
@@ -279,24 +299,42 @@ impl Simulation {
         self.disc.n_dofs
     }
 
+    /// Unknowns of each block (0 for a fixed block).
+    pub fn unknowns_per_block(&self) -> Vec<usize> {
+        let mut n = vec![0; self.model.blocks.len()];
+        for c in &self.disc.covers {
+            if c.dof.is_some() {
+                n[c.block] += crate::cover::COVER_DOFS;
+            }
+        }
+        n
+    }
+
+    /// The model's warnings ([`crate::model::warnings`]) and those about its cover
+    /// ([`crate::model::warnings::cover_warnings`]), one line each.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = crate::model::warnings(&self.model);
+        w.extend(crate::model::warnings::cover_warnings(
+            &self.model,
+            &self.unknowns_per_block(),
+        ));
+        w
+    }
+
     /// End time of the analysis.
     pub fn end_time(&self) -> f64 {
-        self.model.analysis.dt * self.model.analysis.steps as f64
+        let a = &self.model.analysis;
+        time::grid_time(self.time_origin, a.steps as u64, a.dt)
     }
 
-    /// Whether the analysis has reached its end time.
+    /// Whether the analysis has reached its end time (completed all its full steps).
     pub fn finished(&self) -> bool {
-        self.time >= self.end_time() - 1e-9 * self.model.analysis.dt
+        self.full_steps >= self.model.analysis.steps as u64
     }
 
-    /// Advance one step, cutting Δt on non-convergence.
+    /// Advance one step, cutting Δt on non-convergence. The step covers the rest of the
+    /// current interval of Δt (all of it unless an earlier step was cut).
     pub fn advance(&mut self) -> Result<StepReport, StepError> {
-        let dt_full = self
-            .model
-            .analysis
-            .dt
-            .min(self.end_time() - self.time)
-            .max(1e-12 * self.model.analysis.dt);
         // 2. contacts on the geometry at t_n (once per step, whatever the cuts)
         if !self.contacts_current {
             let tc = Instant::now();
@@ -307,7 +345,7 @@ impl Simulation {
             self.contacts_current = true;
         }
         self.assemble_step_parts();
-        let mut dt = dt_full;
+        let mut dt = self.model.analysis.dt - self.partial;
         let mut last = (f64::NAN, String::new());
         let mut solves = 0;
         for cuts in 0..=self.model.analysis.max_step_cuts {
@@ -356,6 +394,8 @@ impl Simulation {
         lp.k.iter_mut().for_each(|v| *v = 0.0);
         lp.m.iter_mut().for_each(|v| *v = 0.0);
         lp.p.iter_mut().for_each(|v| *v = 0.0);
+        lp.c.iter_mut().for_each(|v| *v = 0.0);
+        let damped = !lp.c.is_empty();
         lp.element_mass.resize(n_el, [0.0; ELEMENT_DOFS * ELEMENT_DOFS]);
         lp.element_body.resize(n_el, [0.0; 3]);
         lp.element_internal.resize(n_el, [0.0; ELEMENT_DOFS]);
@@ -375,6 +415,14 @@ impl Simulation {
                 if s != u32::MAX {
                     lp.k[s as usize] += k[idx];
                     lp.m[s as usize] += m[idx];
+                }
+            }
+            if damped {
+                let d = self.model.materials[mat].damping;
+                for (idx, &s) in slots.iter().enumerate() {
+                    if s != u32::MAX {
+                        lp.c[s as usize] += d.alpha * m[idx] + d.beta * k[idx];
+                    }
                 }
             }
             lp.element_mass[ei] = m;
@@ -428,6 +476,14 @@ impl Simulation {
                 f_ext_abs[d] += fb.abs();
             }
         }
+        if !lp.c.is_empty() {
+            // Rayleigh damping: C v_{n+1} = (2/Δt) C Δu − C v_n, so + C v_n here
+            let mut cv_n = vec![0.0; f.len()];
+            step::sym_mul(lp.tangent.element(), &lp.c, v_n, &mut cv_n);
+            for (fi, ci) in f.iter_mut().zip(&cv_n) {
+                *fi += ci;
+            }
+        }
         for p in &self.penalties {
             let target = self.functions[p.function].eval(t1);
             let ue: [f64; 3] = gather(&self.u, &p.dofs);
@@ -470,6 +526,7 @@ impl Simulation {
             f: &f,
             f_ext_abs: &f_ext_abs,
             t1,
+            dt,
         };
         let mut du = vec![0.0; n];
         let (rep, equilibrium) = if static_mode {
@@ -585,8 +642,17 @@ impl Simulation {
     ) -> crate::solver::NewtonReport {
         let a = &self.model.analysis;
         let lp = &mut self.linear;
+        // Rayleigh damping (dynamic only): (2/Δt) C
+        let cd = if cm > 0.0 && !lp.c.is_empty() {
+            time::damping_coefficient(rhs.dt)
+        } else {
+            0.0
+        };
         let l: Vec<f64> = (0..lp.k.len())
-            .map(|i| lp.k[i] + cm * lp.m[i] + lp.p[i])
+            .map(|i| {
+                let c = if cd > 0.0 { cd * lp.c[i] } else { 0.0 };
+                lp.k[i] + cm * lp.m[i] + c + lp.p[i]
+            })
             .collect();
         let targets: Vec<f64> = self
             .penalties
@@ -728,8 +794,22 @@ impl Simulation {
         self.last_du.copy_from_slice(du);
         self.last_dt = dt;
         self.contacts_current = false;
-        self.time += dt;
+        self.advance_clock(dt);
         self.step += 1;
+    }
+
+    /// The clock after a committed step of `dt`: a step that covered the rest of its
+    /// interval ends on the grid, t = t₀ + kΔt; a cut one ends at t₀ + kΔt + (time covered).
+    fn advance_clock(&mut self, dt: f64) {
+        let step = self.model.analysis.dt;
+        // `dt` is the remainder itself (same expression as in `advance`) or a half of it
+        if dt >= step - self.partial {
+            self.full_steps += 1;
+            self.partial = 0.0;
+        } else {
+            self.partial += dt;
+        }
+        self.time = time::grid_time(self.time_origin, self.full_steps, step) + self.partial;
     }
 
     /// Displacement (in the frame of the base) at a material point.
@@ -748,6 +828,7 @@ struct Rhs<'a> {
     f: &'a [f64],
     f_ext_abs: &'a [f64],
     t1: f64,
+    dt: f64,
 }
 
 /// Largest motion of a static step that found no equilibrium, as a fraction of the cover

@@ -1,21 +1,28 @@
 //! The run driver: steps the simulation and writes its outputs.
 //!
 //! `DIR/history.csv` (a row per step, columns per the model contract),
-//! `DIR/blocks.pvd` over `DIR/vtk/blocks_NNNNNN.vtu` (deformed manifold elements, with
-//! displacement and velocity per vertex, stress and block id per element) and
-//! `DIR/contacts.pvd` over `DIR/vtk/contacts_NNNNNN.vtu` (contact points with their
-//! normal, forces and state). Frames at step 0, every `output_every` steps and at
-//! the last step. Every row is flushed before an error or an interrupt is reported,
-//! so a run that stops midway keeps all it wrote.
+//! `DIR/blocks.csv` (the block table: `id,name,material,fixed`, `id` the 0-based index used
+//! in the VTK `block` arrays), `DIR/blocks.pvd` over `DIR/vtk/blocks_NNNNNN.vtu` (deformed
+//! manifold elements, with displacement and velocity per vertex, stress and block id per
+//! element, the block names as field data) and `DIR/contacts.pvd` over
+//! `DIR/vtk/contacts_NNNNNN.vtu` (contact points with their normal, forces and state; a
+//! step without contacts is a valid piece of zero points and zero cells). Frames at step 0,
+//! every `output_every` steps and at the last step. Every row is flushed before an error or
+//! an interrupt is reported, so a run that stops midway keeps all it wrote; `DIR/summary.json`
+//! ([`RunSummary::to_json`]) is written at the end of every run, finished, interrupted or
+//! failed. The files and fields are documented in `docs/outputs.md`.
 
 use super::{Simulation, StepError, Timings};
+use crate::contact::friction::ContactStatus;
 use crate::material::out_of_plane_stress;
 use crate::model::{Model, MonitorKind};
 use crate::output::history::HistoryWriter;
-use crate::output::vtk::{write_vtu, Cell, DataArray, Grid, PvdWriter};
+use crate::output::vtk::{write_vtu, Cell, DataArray, FieldStrings, Grid, PvdWriter};
+use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 /// What a caller sees of a run while it goes (the command line draws a progress bar).
 /// Every method has an empty default.
@@ -24,10 +31,36 @@ pub trait RunObserver {
     fn start(&mut self, _step: usize, _total_steps: usize) {}
     /// A step was completed: `step` steps done, simulated time `time`.
     fn step_done(&mut self, _step: usize, _time: f64) {}
-    /// One line of information (e.g. a warning or a step cut).
+    /// One line of information (e.g. a step cut).
     fn message(&mut self, _line: &str) {}
-    /// The run ended (normally, by an interrupt or by an error).
-    fn finish(&mut self) {}
+    /// A warning about the model ([`Simulation::warnings`]), one line, before the first step.
+    fn warning(&mut self, _line: &str) {}
+    /// The run ended: finished, interrupted or failed. (Not called when the model could not
+    /// be discretised: that run never started.)
+    fn finish(&mut self, _status: RunStatus) {}
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RunStatus {
+    /// Every step done.
+    #[default]
+    Finished,
+    /// Stopped cleanly by [`RunOptions::interrupt`].
+    Interrupted,
+    /// Stopped by an error (a step that did not converge, an output that could not be written).
+    Failed,
+}
+
+impl RunStatus {
+    /// `"finished"`, `"interrupted"` or `"failed"` (as in summary.json).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RunStatus::Finished => "finished",
+            RunStatus::Interrupted => "interrupted",
+            RunStatus::Failed => "failed",
+        }
+    }
 }
 
 /// An observer that ignores everything.
@@ -40,6 +73,8 @@ pub struct RunOptions {
     pub interrupt: Option<Arc<AtomicBool>>,
     /// Write VTK frames (default true through [`RunOptions::new`]).
     pub vtk: bool,
+    /// The model file, for summary.json (`"model": null` without it).
+    pub model_path: Option<PathBuf>,
 }
 
 impl RunOptions {
@@ -47,13 +82,17 @@ impl RunOptions {
         RunOptions {
             interrupt: None,
             vtk: true,
+            model_path: None,
         }
     }
 }
 
+/// What a run did: the figures of summary.json ([`RunSummary::to_json`]).
 #[derive(Debug, Clone, Default)]
 pub struct RunSummary {
+    /// Completed steps (a cut step counts once per completed part).
     pub steps: usize,
+    /// Simulated time at the end (s).
     pub time: f64,
     /// Newton iterations (linear solves) of the accepted attempt of every step.
     pub iterations: Vec<usize>,
@@ -61,20 +100,129 @@ pub struct RunSummary {
     pub solves: Vec<usize>,
     /// Contact branch changes over the Newton iterations, summed over the steps.
     pub active_set_changes: usize,
-    /// Contacts per step.
-    pub contacts: Vec<usize>,
     /// Static mode: steps that did not end in equilibrium.
     pub not_in_equilibrium: usize,
+    /// Whether the last step ended in equilibrium.
+    pub last_equilibrium: bool,
+    /// The analysis is static.
+    pub static_mode: bool,
     /// Linear solver work over the run.
     pub linear: crate::solver::LinearStats,
     /// Steps whose Δt had to be cut, with the number of cuts.
     pub cut_steps: Vec<(usize, usize)>,
     pub interrupted: bool,
+    /// How the run ended.
+    pub status: RunStatus,
+    /// The error that stopped a failed run, one line.
+    pub error: Option<String>,
     pub timings: Timings,
+    /// Time spent writing history.csv, blocks.csv and the VTK frames.
+    pub output_time: Duration,
+    /// Wall-clock time of the whole run, cover generation included.
+    pub total_time: Duration,
+    pub n_blocks: usize,
     pub n_dofs: usize,
     pub n_elements: usize,
     pub n_covers: usize,
+    /// Closed (stick or slide) contacts at the end of every step.
+    pub contacts: Vec<usize>,
+    /// Energy balance: `None` (null) until the solver reports it.
+    pub energy: Option<Value>,
+    /// Equilibrium check at the end: `None` (null) until the solver reports it.
+    pub equilibrium: Option<Value>,
+    /// The model's warnings ([`Simulation::warnings`]).
+    pub warnings: Vec<String>,
+    /// Peak resident memory of the process (Linux: VmHWM), `None` elsewhere.
+    pub peak_memory_bytes: Option<u64>,
+    pub model_path: Option<PathBuf>,
     pub out_dir: PathBuf,
+}
+
+impl RunSummary {
+    /// summary.json: every key is documented in `docs/outputs.md`; times in s.
+    pub fn to_json(&self) -> Value {
+        let mut sorted = self.solves.clone();
+        sorted.sort_unstable();
+        let total: usize = sorted.iter().sum();
+        let mean = |v: &[usize]| {
+            if v.is_empty() {
+                0.0
+            } else {
+                v.iter().sum::<usize>() as f64 / v.len() as f64
+            }
+        };
+        let t = &self.timings;
+        let s = |d: Duration| d.as_secs_f64();
+        json!({
+            "nmm_version": env!("CARGO_PKG_VERSION"),
+            "model": self.model_path.as_ref().map(|p| p.display().to_string()),
+            "status": self.status.as_str(),
+            "error": self.error,
+            "steps": self.steps,
+            "time": self.time,
+            "blocks": self.n_blocks,
+            "unknowns": self.n_dofs,
+            "physical_covers": self.n_covers,
+            "manifold_elements": self.n_elements,
+            "iterations": {
+                "total": total,
+                "median": sorted.get(sorted.len() / 2).copied().unwrap_or(0),
+                "max": sorted.last().copied().unwrap_or(0),
+                "mean": mean(&sorted),
+            },
+            "cuts": {
+                "total": self.cut_steps.iter().map(|c| c.1).sum::<usize>(),
+                "steps_cut": self.cut_steps.len(),
+            },
+            "active_set_changes": self.active_set_changes,
+            "linear": {
+                "gmres_iterations": self.linear.gmres_iterations,
+                "cholesky_factorisations": self.linear.factorisations,
+                "symbolic_analyses": self.linear.symbolic_analyses,
+                "lu_factorisations": self.linear.lu_factorisations,
+            },
+            "contacts": {
+                "max": self.contacts.iter().copied().max().unwrap_or(0),
+                "mean": mean(&self.contacts),
+            },
+            "timings": {
+                "cover": s(t.cover),
+                "assembly": s(t.stages.assembly),
+                "contact": s(t.stages.contact),
+                "factorisation": s(t.stages.factorisation),
+                "solve": s(t.stages.solve),
+                "output": s(self.output_time),
+                "total": s(self.total_time),
+            },
+            "peak_memory_bytes": self.peak_memory_bytes,
+            "energy": self.energy,
+            "equilibrium": self.equilibrium.clone().or_else(|| {
+                self.static_mode.then(|| {
+                    json!({
+                        "steps_not_in_equilibrium": self.not_in_equilibrium,
+                        "last_step_in_equilibrium": self.last_equilibrium,
+                    })
+                })
+            }),
+            "warnings": self.warnings,
+        })
+    }
+
+    /// Writes [`Self::to_json`] (pretty-printed, with a final line break) to `path`.
+    pub fn write_json(&self, path: &Path) -> std::io::Result<()> {
+        let mut text =
+            serde_json::to_string_pretty(&self.to_json()).map_err(std::io::Error::other)?;
+        text.push('\n');
+        std::fs::write(path, text)
+    }
+}
+
+/// Peak resident set size of this process: `VmHWM` of `/proc/self/status` (Linux), in bytes.
+pub fn peak_memory_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -177,7 +325,33 @@ pub fn blocks_grid(sim: &Simulation) -> Grid {
     ));
     g.cell_data
         .push(DataArray::vector2("mean_displacement", cell_u));
+    g.field_data.push(FieldStrings::new(
+        "block_names",
+        sim.model.blocks.iter().map(|b| b.name.clone()).collect(),
+    ));
     g
+}
+
+/// `DIR/blocks.csv`: `id,name,material,fixed`, one row per block in file order; `id` is the
+/// 0-based index of the VTK `block` arrays.
+pub fn write_block_table(model: &Model, path: &Path) -> Result<(), RunError> {
+    let e = |e: csv::Error| RunError::Io(format!("{}: {e}", path.display()));
+    let mut w = csv::WriterBuilder::new()
+        .terminator(csv::Terminator::Any(b'\n'))
+        .from_path(path)
+        .map_err(e)?;
+    w.write_record(["id", "name", "material", "fixed"])
+        .map_err(e)?;
+    for (i, b) in model.blocks.iter().enumerate() {
+        w.write_record([
+            i.to_string().as_str(),
+            &b.name,
+            &model.materials[b.material].name,
+            if b.fixed { "true" } else { "false" },
+        ])
+        .map_err(e)?;
+    }
+    w.flush().map_err(|x| io(path, x))
 }
 
 /// The contacts as a VTK grid of vertices.
@@ -227,11 +401,16 @@ impl Frames {
             dir,
         })
     }
+    /// Frames of the current state; a contact frame only if there is a contact (a grid
+    /// without cells is valid VTK, but meshio cannot read it).
     fn write(&mut self, sim: &Simulation) -> Result<(), RunError> {
         for (series, grid) in [
             ("blocks", blocks_grid(sim)),
             ("contacts", contacts_grid(sim)),
         ] {
+            if grid.cells.is_empty() {
+                continue;
+            }
             let name = format!("{series}_{:06}.vtu", sim.step);
             let path = self.dir.join(&name);
             write_vtu(&path, &grid).map_err(|e| io(&path, e))?;
@@ -252,7 +431,8 @@ pub fn run(model: Model, out: &Path, opts: &RunOptions) -> Result<RunSummary, Ru
     run_observed(model, out, opts, &mut Silent)
 }
 
-/// As [`run`], reporting progress to `observer`.
+/// As [`run`], reporting progress to `observer`. A model that cannot be discretised still
+/// leaves a summary.json (status "failed") in `out`.
 pub fn run_observed(
     model: Model,
     out: &Path,
@@ -260,18 +440,82 @@ pub fn run_observed(
     observer: &mut dyn RunObserver,
 ) -> Result<RunSummary, RunError> {
     std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
-    let mut sim = Simulation::new(model).map_err(RunError::Setup)?;
+    let start = Instant::now();
+    let n_blocks = model.blocks.len();
+    let mut sim = match Simulation::new(model) {
+        Ok(sim) => sim,
+        Err(e) => {
+            let summary = RunSummary {
+                status: RunStatus::Failed,
+                error: Some(one_line(&e)),
+                n_blocks,
+                total_time: start.elapsed(),
+                peak_memory_bytes: peak_memory_bytes(),
+                model_path: opts.model_path.clone(),
+                out_dir: out.to_path_buf(),
+                ..Default::default()
+            };
+            let _ = summary.write_json(&out.join("summary.json"));
+            return Err(RunError::Setup(e));
+        }
+    };
     run_simulation(&mut sim, out, opts, observer)
 }
 
-/// Step an existing simulation to its end time, writing outputs.
+/// Step an existing simulation to its end time, writing outputs, then summary.json
+/// (also when the run is interrupted or fails: the error returned is the run's, a failure
+/// to write the summary is then ignored).
 pub fn run_simulation(
     sim: &mut Simulation,
     out: &Path,
     opts: &RunOptions,
     progress: &mut dyn RunObserver,
 ) -> Result<RunSummary, RunError> {
+    let start = Instant::now();
     std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
+    let mut summary = RunSummary {
+        n_blocks: sim.model.blocks.len(),
+        n_dofs: sim.n_dofs(),
+        n_elements: sim.disc.elements.len(),
+        n_covers: sim.disc.covers.len(),
+        warnings: sim.warnings(),
+        model_path: opts.model_path.clone(),
+        out_dir: out.to_path_buf(),
+        ..Default::default()
+    };
+    for w in &summary.warnings {
+        progress.warning(w);
+    }
+    let result = step_to_end(sim, out, opts, progress, &mut summary);
+    summary.steps = sim.step;
+    summary.time = sim.time;
+    summary.timings = sim.timings;
+    summary.status = match &result {
+        Err(_) => RunStatus::Failed,
+        Ok(()) if summary.interrupted => RunStatus::Interrupted,
+        Ok(()) => RunStatus::Finished,
+    };
+    summary.error = result.as_ref().err().map(|e| one_line(&e.to_string()));
+    summary.total_time = sim.timings.cover + start.elapsed();
+    summary.peak_memory_bytes = peak_memory_bytes();
+    progress.finish(summary.status);
+    let path = out.join("summary.json");
+    let written = summary.write_json(&path);
+    result?;
+    written.map_err(|e| io(&path, e))?;
+    Ok(summary)
+}
+
+/// The stepping loop of [`run_simulation`]: history rows, frames, the block table.
+fn step_to_end(
+    sim: &mut Simulation,
+    out: &Path,
+    opts: &RunOptions,
+    progress: &mut dyn RunObserver,
+    summary: &mut RunSummary,
+) -> Result<(), RunError> {
+    let t_out = Instant::now();
+    write_block_table(&sim.model, &out.join("blocks.csv"))?;
     let hist_path = out.join("history.csv");
     let mut hist = HistoryWriter::create(&hist_path, &history_columns(&sim.model))
         .map_err(|e| io(&hist_path, e))?;
@@ -283,15 +527,9 @@ pub fn run_simulation(
     if let Some(f) = frames.as_mut() {
         f.write(sim)?;
     }
+    summary.output_time += t_out.elapsed();
     let every = sim.model.analysis.output_every.max(1);
     progress.start(sim.step, sim.model.analysis.steps);
-    let mut summary = RunSummary {
-        n_dofs: sim.n_dofs(),
-        n_elements: sim.disc.elements.len(),
-        n_covers: sim.disc.covers.len(),
-        out_dir: out.to_path_buf(),
-        ..Default::default()
-    };
     let mut last_written = sim.step;
     while !sim.finished() {
         let rep = match sim.advance() {
@@ -303,7 +541,6 @@ pub fn run_simulation(
                         f.write(sim)?;
                     }
                 }
-                progress.finish();
                 return Err(RunError::Step {
                     error,
                     completed: sim.step,
@@ -321,9 +558,17 @@ pub fn run_simulation(
         summary.iterations.push(rep.iterations);
         summary.solves.push(rep.solves);
         summary.active_set_changes += rep.active_set_changes;
-        summary.contacts.push(rep.contacts);
         summary.not_in_equilibrium += usize::from(!rep.equilibrium);
+        summary.last_equilibrium = rep.equilibrium;
         summary.linear += rep.linear;
+        summary.contacts.push(
+            sim.contacts
+                .contacts
+                .iter()
+                .filter(|c| c.response.status != ContactStatus::Open)
+                .count(),
+        );
+        let t_out = Instant::now();
         hist.write_row(sim.step, sim.time, &monitor_values(sim), rep.iterations)
             .map_err(|e| io(&hist_path, e))?;
         let interrupted = opts
@@ -336,16 +581,17 @@ pub fn run_simulation(
                 last_written = sim.step;
             }
         }
+        summary.output_time += t_out.elapsed();
         progress.step_done(sim.step, sim.time);
         if interrupted {
             summary.interrupted = true;
             break;
         }
     }
-    hist.flush().map_err(|e| io(&hist_path, e))?;
-    progress.finish();
-    summary.steps = sim.step;
-    summary.time = sim.time;
-    summary.timings = sim.timings;
-    Ok(summary)
+    hist.flush().map_err(|e| io(&hist_path, e))
+}
+
+/// Any line breaks of a message as spaces.
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
 }

@@ -92,7 +92,7 @@ fn embed(small: &SparsePattern, big: &SparsePattern) -> Vec<u32> {
 
 /// y = A x for a symmetric A stored in full over `p` (computed by rows = columns, so each
 /// y_i is one ordered sum).
-fn sym_mul(p: &SparsePattern, a: &[f64], x: &[f64], y: &mut [f64]) {
+pub(crate) fn sym_mul(p: &SparsePattern, a: &[f64], x: &[f64], y: &mut [f64]) {
     for (i, yi) in y.iter_mut().enumerate() {
         let mut s = 0.0;
         for k in p.col_ptr[i]..p.col_ptr[i + 1] {

@@ -322,6 +322,87 @@ pub fn bar_period() -> Result<(f64, f64), String> {
     Ok((ups[2] - ups[1], period))
 }
 
+const DAMPED_BAR_E: f64 = 1.0e9;
+const DAMPED_BAR_RHO: f64 = 2500.0;
+
+/// The closed-form first axial frequency πc/L (rad/s) of the bar of [`damped_bar`].
+pub fn damped_bar_omega() -> f64 {
+    std::f64::consts::PI * (DAMPED_BAR_E / DAMPED_BAR_RHO).sqrt()
+}
+
+/// What a damped free vibration of the bar of [`damped_bar`] shows.
+#[derive(Debug, Clone)]
+pub struct DampedBar {
+    /// Closed-form angular frequency of the first axial mode of the free–free bar, πc/L.
+    pub omega: f64,
+    /// Δt used (s).
+    pub dt: f64,
+    /// ln(e_k / e_{k+1}) between successive maxima of the bar's elongation e(t).
+    pub decrements: Vec<f64>,
+    /// Time between the first two maxima (the damped period, s).
+    pub period: f64,
+}
+
+/// A free–free elastic bar (L = 1 m × 0.1 m, ν = 0, plane stress: c = √(E/ρ)), one block,
+/// no contact, no constraint, set vibrating in its first axial mode u = cos(πx/L) by an
+/// initial velocity 1 mm/s × cos(πx/L) at the cover nodes, with the material's `damping`
+/// (the TOML value, e.g. `{ alpha = 10.0 }`), `steps_per_period` steps per closed-form
+/// period 2π/ω for `periods` periods. The elongation e = u_x(L) − u_x(0) (insensitive to a
+/// rigid drift) is sampled at every step; its maxima are located by a parabola through the
+/// three samples around each.
+pub fn damped_bar(damping: &str, steps_per_period: f64, periods: f64) -> Result<DampedBar, String> {
+    let (l, d, e, rho) = (1.0f64, 0.1f64, DAMPED_BAR_E, DAMPED_BAR_RHO);
+    let omega = damped_bar_omega();
+    let dt = std::f64::consts::TAU / omega / steps_per_period;
+    let steps = (periods * steps_per_period).ceil() as usize;
+    let text = format!(
+        "[analysis]\nmode = \"dynamic\"\ndt = {dt}\nsteps = {steps}\n[cover]\nsize = {h}\norigin = [0.0, 0.0]\n{}\
+         damping = {damping}\n\
+         [[block]]\nname = \"bar\"\nmaterial = \"m\"\nvertices = [[0.0, 0.0], [{l}, 0.0], [{l}, {d}], [0.0, {d}]]\n\
+         [[monitor]]\nname = \"left\"\npoint = [0.0, {hd}]\n\
+         [[monitor]]\nname = \"right\"\npoint = [{l}, {hd}]\n",
+        material(e, 0.0, rho, "stress"),
+        h = l / 20.0,
+        hd = 0.5 * d
+    );
+    let mut sim = simulate(&text)?;
+    for c in &sim.disc.covers {
+        if let Some(dof) = c.dof {
+            let x = sim.disc.mesh.node(c.node);
+            sim.v[dof] = 1.0e-3 * (std::f64::consts::PI * x[0] / l).cos();
+        }
+    }
+    let elongation = |sim: &Simulation| {
+        let m = monitor_values(sim);
+        m[4] - m[0]
+    };
+    let mut hist = vec![(0.0, elongation(&sim))];
+    while !sim.finished() {
+        sim.advance().map_err(|e| e.to_string())?;
+        hist.push((sim.time, elongation(&sim)));
+    }
+    let maxima: Vec<(f64, f64)> = hist
+        .windows(3)
+        .filter(|w| w[1].1 > w[0].1 && w[1].1 >= w[2].1 && w[1].1 > 0.0)
+        .map(|w| {
+            // parabola through three equally spaced samples
+            let (a, b, c) = (w[0].1, w[1].1, w[2].1);
+            let den = a - 2.0 * b + c;
+            let s = if den != 0.0 { 0.5 * (a - c) / den } else { 0.0 };
+            (w[1].0 + s * dt, b - 0.25 * (a - c) * s)
+        })
+        .collect();
+    if maxima.len() < 2 {
+        return Err(format!("damped bar: only {} maxima", maxima.len()));
+    }
+    Ok(DampedBar {
+        omega,
+        dt,
+        decrements: maxima.windows(2).map(|p| (p[0].1 / p[1].1).ln()).collect(),
+        period: maxima[1].0 - maxima[0].0,
+    })
+}
+
 // ---------------------------------------------------------------- contact and friction
 
 /// One step of the direct shear test.

@@ -441,7 +441,9 @@ impl Simulation {
     }
 
     /// The step's right-hand side F = f_ext(t1) − f_int(σ_n) + c_v M v_n + P-targets − P u_n,
-    /// and |f_ext| per unknown.
+    /// and the magnitudes of its physical forces per unknown (|f_ext| + |c_v M v_n| +
+    /// |f_int|, for the convergence test; the penalty targets are left out), with a floor
+    /// of E_max · 10⁻¹² · h.
     fn right_hand_side(&self, dt: f64, t1: f64, v_n: &[f64], f: &mut [f64], f_ext_abs: &mut [f64]) {
         let cv = time::velocity_coefficient(dt);
         let a_base = self
@@ -454,8 +456,16 @@ impl Simulation {
         // body acceleration in the frame of the base: gravity − a_base
         let b = [g[0] - a_base[0], g[1] - a_base[1]];
         f.copy_from_slice(&self.f_load);
+        let floor = self
+            .model
+            .materials
+            .iter()
+            .map(|m| m.young)
+            .fold(0.0, f64::max)
+            * 1e-12
+            * self.model.cover_size;
         for (fa, fl) in f_ext_abs.iter_mut().zip(&self.f_load) {
-            *fa = fl.abs();
+            *fa = fl.abs() + floor;
         }
         let lp = &self.linear;
         for (ei, dofs) in self.elem_dofs.iter().enumerate() {
@@ -472,8 +482,10 @@ impl Simulation {
                 }
                 let fb = body[r / 2] * b[r % 2];
                 let mv: f64 = (0..ELEMENT_DOFS).map(|c| m[r * ELEMENT_DOFS + c] * ve[c]).sum();
-                f[d] += fb + cv * mv - lp.element_internal[ei][r];
-                f_ext_abs[d] += fb.abs();
+                let fi = lp.element_internal[ei][r];
+                f[d] += fb + cv * mv - fi;
+                // physical forces: body forces, the inertia of the motion, the stresses
+                f_ext_abs[d] += fb.abs() + (cv * mv).abs() + fi.abs();
             }
         }
         if !lp.c.is_empty() {

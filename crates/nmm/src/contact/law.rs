@@ -178,7 +178,8 @@ impl FrictionLaw for ReturnMapping {
         }
     }
 
-    /// The semi-smooth Newton rules: the closed-contact predictor of the default, and a
+    /// The semi-smooth Newton rules: the closed-contact predictor of the default; at the
+    /// first iterate a contact that slid at the end of the last step goes on sliding; and a
     /// contact that slid one way at the previous iterate and would now slide the other way
     /// is held in stick for this iterate. A sliding contact has no shear stiffness; a Newton
     /// step computed with it overshoots across the stick band (2S/p_S wide, often 1e-8 m
@@ -196,6 +197,12 @@ impl FrictionLaw for ReturnMapping {
         let own = self.branch(p, h, gn, dgs);
         match (ctx.previous, own) {
             (None, Branch::Open) if ctx.touching => Branch::Stick,
+            // a contact that slid at the end of the last step starts the step sliding the
+            // same way: at Δg_S = 0 its trial force is exactly its strength, and the law's
+            // branch there is a tie decided by round-off
+            (None, Branch::Stick) if h.status == ContactStatus::Slide && h.slide_sign != 0.0 => {
+                Branch::Slide(if h.slide_sign < 0.0 { -1 } else { 1 })
+            }
             (Some(Branch::Slide(a)), Branch::Slide(b)) if a != b => Branch::Stick,
             _ => own,
         }

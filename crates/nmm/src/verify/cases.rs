@@ -417,15 +417,53 @@ pub struct ShearStep {
     pub sigma_n: f64,
     /// Whether every closed contact of the joint slides.
     pub sliding: bool,
+    /// Linear solves of the step (failed attempts included).
     pub iterations: usize,
+    /// Δt cuts of the step.
+    pub cuts: usize,
     pub residuals: Vec<f64>,
 }
 
 /// The paper's direct shear test (see `examples/direct_shear.toml`) with normal stress
 /// `sigma_n` and friction angle `phi`: five steps of 0.06 mm.
 pub fn direct_shear(sigma_n: f64, phi: f64, algorithm: &str) -> Result<Vec<ShearStep>, String> {
+    direct_shear_on(sigma_n, phi, algorithm, None)
+}
+
+/// Where the joint of [`direct_shear_on`] lies relative to the mathematical mesh.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum JointOnMesh {
+    /// On a mesh line.
+    On,
+    /// 10⁻³ h from a mesh line.
+    Near,
+    /// Halfway between two mesh lines (the default placement of the mesh).
+    Between,
+}
+
+impl JointOnMesh {
+    /// The `[cover] origin` that puts the joint (y = 0.1, h = 0.025) there.
+    pub fn origin(self) -> Option<[f64; 2]> {
+        match self {
+            JointOnMesh::On => Some([0.0, 0.0]),
+            JointOnMesh::Near => Some([0.0, 0.025e-3]),
+            JointOnMesh::Between => Some([0.0, 0.0125]),
+        }
+    }
+}
+
+/// [`direct_shear`] with the mathematical mesh through `origin` (`[cover] origin`).
+pub fn direct_shear_on(
+    sigma_n: f64,
+    phi: f64,
+    algorithm: &str,
+    origin: Option<[f64; 2]>,
+) -> Result<Vec<ShearStep>, String> {
+    let origin = origin
+        .map(|o| format!("origin = [{}, {}]\n", o[0], o[1]))
+        .unwrap_or_default();
     let text = format!(
-        "[analysis]\nmode = \"static\"\ndt = 1.0\nsteps = 5\nfriction = \"{algorithm}\"\n[cover]\nsize = 0.025\n\
+        "[analysis]\nmode = \"static\"\ndt = 1.0\nsteps = 5\nfriction = \"{algorithm}\"\n[cover]\nsize = 0.025\n{origin}\
          [[material]]\nname = \"rock\"\ndensity = 2500.0\nyoung = 1.0e9\npoisson = 0.0\n\
          [[block]]\nname = \"lower\"\nmaterial = \"rock\"\nvertices = [[0.0, 0.0], [0.2, 0.0], [0.2, 0.1], [0.0, 0.1]]\nfixed = true\n\
          [[block]]\nname = \"upper\"\nmaterial = \"rock\"\nvertices = [[0.05, 0.1], [0.15, 0.1], [0.15, 0.2], [0.05, 0.2]]\n\
@@ -451,7 +489,8 @@ pub fn direct_shear(sigma_n: f64, phi: f64, algorithm: &str) -> Result<Vec<Shear
             tau: -v[0] / 0.1,
             sigma_n: v[1] / 0.1,
             sliding: states.contains(&Slide) && !states.contains(&Stick),
-            iterations: rep.iterations,
+            iterations: rep.solves,
+            cuts: rep.cuts,
             residuals: rep.residuals,
         });
     }

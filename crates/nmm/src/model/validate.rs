@@ -27,6 +27,11 @@ use toml::Value;
 /// Relative geometric tolerance (× model size).
 pub const REL_TOL: f64 = 1e-9;
 
+/// Default `[analysis] tolerance`: the Newton iteration stops when the residual is below
+/// this fraction of the physical forces (loads, weights, inertia, stresses, reactions,
+/// contact forces).
+pub const DEFAULT_TOLERANCE: f64 = 1e-8;
+
 const TOP_KEYS: &[&str] = &[
     "analysis",
     "cover",
@@ -162,7 +167,7 @@ fn analysis(root: &Doc) -> R<Analysis> {
     let output_every = count(&f, "output_every", 1, 1)?;
     let max_iterations = count(&f, "max_iterations", 25, 1)?;
     let max_step_cuts = count(&f, "max_step_cuts", 6, 0)?;
-    let tolerance = f.opt("tolerance", number)?.unwrap_or(1e-9);
+    let tolerance = f.opt("tolerance", number)?.unwrap_or(DEFAULT_TOLERANCE);
     if !(tolerance > 0.0 && tolerance < 1.0) {
         return Err(f.err(
             "tolerance",

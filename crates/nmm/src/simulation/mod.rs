@@ -542,39 +542,74 @@ impl Simulation {
         };
         let mut du = vec![0.0; n];
         let (rep, equilibrium) = if static_mode {
-            let rep = self.solve(
+            let sigma0 = cm.max(self.static_regularisation());
+            // Newton with continuation in its tangent first (cheap when it works), then
+            // the continuation with inner solves (robust), then no equilibrium
+            let mut rep = self.solve(
                 &rhs,
                 0.0,
-                Regularisation::Continuation { initial: cm },
+                None,
+                Regularisation::Continuation {
+                    initial: sigma0,
+                    floor: 1e-6 * sigma0,
+                },
                 1,
+                None,
                 &mut du,
             );
-            if rep.converged || matches!(rep.error, Some(crate::solver::SolveError::OutOfMemory)) {
+            let mut reached = rep.converged;
+            if !reached && rep.error.is_none() {
+                du.iter_mut().for_each(|x| *x = 0.0);
+                let spent = rep.iterations;
+                let (r, ok) = self.static_continuation(&rhs, sigma0, &mut du);
+                rep = r;
+                rep.iterations += spent;
+                reached = ok;
+            }
+            if reached || matches!(rep.error, Some(crate::solver::SolveError::OutOfMemory)) {
                 (rep, true)
             } else {
-                // no equilibrium found: the quasi-static step, its motion limited
+                // No equilibrium: DDA's quasi-static step from where the continuation
+                // stopped (the parts that have an equilibrium are in it there; only the
+                // mechanism's modes carry a residual): the inertia of Δt, anchored at that
+                // point, moves the mechanism and leaves the rest; Δt is shortened (the
+                // inertia raised) until no point moves more than STATIC_MAX_MOTION × h.
                 let limit = STATIC_MAX_MOTION * self.model.cover_size;
+                let anchor = du.clone();
                 let mut c = cm;
                 let mut spent = rep.iterations;
                 let mut last = rep;
-                for _ in 0..4 {
-                    du.iter_mut().for_each(|x| *x = 0.0);
+                for _ in 0..12 {
+                    du.copy_from_slice(&anchor);
                     let mut r = self.solve(
                         &rhs,
-                        c,
+                        0.0,
+                        Some((&anchor, c)),
                         Regularisation::None { fallback: c },
                         MAX_REJECTIONS,
+                        None,
                         &mut du,
                     );
                     spent += r.iterations;
                     r.iterations = spent;
-                    let motion = self.max_motion(&du);
-                    let done = !r.converged || motion <= limit;
+                    if !r.converged {
+                        last = r;
+                        if last.error.is_some() {
+                            break;
+                        }
+                        c *= 10.0;
+                        continue;
+                    }
+                    let motion = du
+                        .iter()
+                        .zip(&anchor)
+                        .map(|(a, b)| (a - b).abs())
+                        .fold(0.0, f64::max);
                     last = r;
-                    if done {
+                    if motion <= limit {
                         break;
                     }
-                    c *= 1.2 * motion / limit;
+                    c *= (1.2 * motion / limit).max(2.0);
                 }
                 (last, false)
             }
@@ -589,8 +624,10 @@ impl Simulation {
             let rep = self.solve(
                 &rhs,
                 cm,
+                None,
                 Regularisation::None { fallback: cm },
                 MAX_REJECTIONS,
+                None,
                 &mut du,
             );
             (rep, true)
@@ -643,16 +680,80 @@ impl Simulation {
     }
 
     /// Newton on the step's system with the linear part L = K + cm M + P, from the first
-    /// iterate in `du`.
+    /// iterate in `du`. With `anchor = (Δu_k, σ)` the system is the continuation's inner
+    /// problem: L + σ M and F + σ M Δu_k (see [`Simulation::static_continuation`]).
+    #[allow(clippy::too_many_arguments)]
     fn solve(
         &mut self,
         rhs: &Rhs,
         cm: f64,
+        anchor: Option<(&[f64], f64)>,
         regularisation: Regularisation,
         max_rejections: usize,
+        tolerance: Option<f64>,
         du: &mut [f64],
     ) -> crate::solver::NewtonReport {
-        let a = &self.model.analysis;
+        let (max_iterations, tolerance) = (
+            self.model.analysis.max_iterations,
+            tolerance.unwrap_or(self.model.analysis.tolerance),
+        );
+        let max_step = self.search_distance();
+        let opts = NewtonOptions {
+            max_iterations,
+            tolerance,
+            regularisation,
+            max_rejections,
+            max_step,
+        };
+        let invalidate =
+            self.solver_cm != Some(cm) || !matches!(regularisation, Regularisation::None { .. });
+        let rep = self.with_system(rhs, cm, anchor, |sys, solver| {
+            if invalidate {
+                // the inertia coefficient (or the regularisation) changed
+                solver.invalidate();
+            }
+            solve_piecewise(sys, solver, du, opts)
+        });
+        self.solver_cm = Some(cm);
+        self.timings.stages += rep.times;
+        rep
+    }
+
+    /// The true residual norm of the static problem (L = K + P) at `du` and its physical
+    /// force scale.
+    fn static_merit(&mut self, rhs: &Rhs, du: &[f64]) -> (f64, f64) {
+        let covers: Vec<(usize, usize)> = if std::env::var_os("NMM_DEBUG_STATIC").is_some() {
+            self.disc.covers.iter().filter_map(|c| c.dof.map(|d| (d, c.block))).collect()
+        } else {
+            Vec::new()
+        };
+        self.with_system(rhs, 0.0, None, |sys, _| {
+            let mut r = vec![0.0; du.len()];
+            crate::solver::PiecewiseSystem::residual(sys, du, &mut r);
+            if !covers.is_empty() {
+                let mut idx: Vec<usize> = (0..r.len()).collect();
+                idx.sort_by(|a, b| r[*b].abs().total_cmp(&r[*a].abs()));
+                let top: Vec<String> = idx.iter().take(6).map(|&i| {
+                    let b = covers.iter().find(|(d, _)| *d == i - i % 2).map(|x| x.1).unwrap_or(usize::MAX);
+                    format!("dof {i} block {b}: {:.2e}", r[i])
+                }).collect();
+                eprintln!("  largest residuals: {}", top.join("; "));
+            }
+            (
+                r.iter().map(|v| v * v).sum::<f64>().sqrt(),
+                crate::solver::PiecewiseSystem::force_scale(sys),
+            )
+        })
+    }
+
+    /// Builds the step's system (see [`Simulation::solve`]) and hands it to `f`.
+    fn with_system<T>(
+        &mut self,
+        rhs: &Rhs,
+        cm: f64,
+        anchor: Option<(&[f64], f64)>,
+        f: impl FnOnce(&mut StepSystem, &mut TangentSolver) -> T,
+    ) -> T {
         let lp = &mut self.linear;
         // Rayleigh damping (dynamic only): (2/Δt) C
         let cd = if cm > 0.0 && !lp.c.is_empty() {
@@ -660,27 +761,34 @@ impl Simulation {
         } else {
             0.0
         };
+        let sigma = anchor.map_or(0.0, |a| a.1);
         let l: Vec<f64> = (0..lp.k.len())
             .map(|i| {
                 let c = if cd > 0.0 { cd * lp.c[i] } else { 0.0 };
-                lp.k[i] + cm * lp.m[i] + c + lp.p[i]
+                lp.k[i] + (cm + sigma) * lp.m[i] + c + lp.p[i]
             })
             .collect();
+        let mut shifted;
+        let fvec: &[f64] = match anchor {
+            Some((du_k, sigma)) => {
+                shifted = vec![0.0; du_k.len()];
+                step::sym_mul(lp.tangent.element(), &lp.m, du_k, &mut shifted);
+                for (s, fi) in shifted.iter_mut().zip(rhs.f) {
+                    *s = fi + sigma * *s;
+                }
+                &shifted
+            }
+            None => rhs.f,
+        };
         let targets: Vec<f64> = self
             .penalties
             .iter()
             .map(|p| self.functions[p.function].eval(rhs.t1))
             .collect();
-        let opts = NewtonOptions {
-            max_iterations: a.max_iterations,
-            tolerance: a.tolerance,
-            regularisation,
-            max_rejections,
-        };
         let mut sys = StepSystem {
             l: &l,
             m: &lp.m,
-            f: rhs.f,
+            f: fvec,
             f_ext_abs: rhs.f_ext_abs,
             penalties: &self.penalties,
             targets: &targets,
@@ -689,24 +797,120 @@ impl Simulation {
             tangent: &mut lp.tangent,
             sigma: 0.0,
             scale: 0.0,
-            work: Vec::with_capacity(du.len()),
+            work: Vec::with_capacity(rhs.f.len()),
         };
-        if self.solver_cm != Some(cm) || !matches!(regularisation, Regularisation::None { .. }) {
-            // the inertia coefficient (or the regularisation) changed
-            self.solver.invalidate();
-        }
-        self.solver_cm = Some(cm);
-        let rep = solve_piecewise(&mut sys, &mut self.solver, du, opts);
-        self.timings.stages += rep.times;
-        rep
+        f(&mut sys, &mut self.solver)
     }
 
-    /// The largest displacement of a mesh node under `du`.
-    fn max_motion(&self, du: &[f64]) -> f64 {
-        du.chunks(2)
-            .map(|c| c[0].hypot(*c.get(1).unwrap_or(&0.0)))
-            .fold(0.0, f64::max)
+    /// A static step by pseudo-transient continuation with inner Newton solves: from
+    /// Δu₀ = 0, each outer iteration k solves the regularised problem
+    /// R(Δu) − σ_k M (Δu − Δu_k) = 0 (a quasi-static step of DDA's kind with the inertia of
+    /// σ_k, well conditioned whatever the contacts do), then lowers σ with the static
+    /// residual (σ_{k+1} = σ_k ‖R(Δu_{k+1})‖/‖R(Δu_k)‖, switched evolution relaxation) until
+    /// the static residual ‖R‖ is below the tolerance: the point reached is the static
+    /// equilibrium. Returns the report (iterations summed over the inner solves) and
+    /// whether the equilibrium was reached; it is not when the residual stops falling (a
+    /// mechanism: no equilibrium exists) or the outer iterations run out.
+    fn static_continuation(
+        &mut self,
+        rhs: &Rhs,
+        sigma0: f64,
+        du: &mut [f64],
+    ) -> (crate::solver::NewtonReport, bool) {
+        let tolerance = self.model.analysis.tolerance;
+        let mut sigma = sigma0;
+        let floor = 1e-8 * sigma0;
+        let mut anchor = du.to_vec();
+        let (mut merit, _) = self.static_merit(rhs, du);
+        let mut total = crate::solver::NewtonReport::default();
+        let mut stalled = 0;
+        for _ in 0..STATIC_OUTER_ITERATIONS {
+            // the inner problem only needs to be solved well below the static residual
+            let (_, scale) = self.static_merit(rhs, du);
+            let inner = (0.01 * merit / scale.max(f64::MIN_POSITIVE)).clamp(tolerance, 1e-4);
+            let mut rep = self.solve(
+                rhs,
+                0.0,
+                Some((&anchor, sigma)),
+                Regularisation::None { fallback: sigma },
+                MAX_REJECTIONS,
+                Some(inner),
+                du,
+            );
+            total.iterations += rep.iterations;
+            total.active_set_changes += rep.active_set_changes;
+            total.linear += rep.linear;
+            total.residuals.append(&mut rep.residuals);
+            total.error = rep.error.clone();
+            if rep.error.is_some() {
+                return (total, false);
+            }
+            if !rep.converged {
+                // the inner problem needs more inertia: from the last anchor
+                du.copy_from_slice(&anchor);
+                sigma *= 10.0;
+                stalled += 1;
+                if stalled > 3 {
+                    break;
+                }
+                continue;
+            }
+            let (m, scale) = self.static_merit(rhs, du);
+            if std::env::var_os("NMM_DEBUG_STATIC").is_some() {
+                eprintln!(
+                    "static continuation: sigma {sigma:.3e} inner its {} merit {m:.3e} (scale {scale:.3e})",
+                    rep.iterations
+                );
+            }
+            if m <= tolerance * scale {
+                total.converged = true;
+                total.residuals.push(m);
+                return (total, true);
+            }
+            if m < 0.9 * merit {
+                stalled = 0;
+            } else {
+                stalled += 1;
+                if stalled > 2 {
+                    break;
+                }
+            }
+            sigma = (sigma * (m / merit).min(1.0)).max(floor);
+            merit = merit.min(m);
+            anchor.copy_from_slice(du);
+        }
+        (total, false)
     }
+
+    /// The regularisation coefficient of static steps (on the mass matrix, 1/s²): 1% of
+    /// the largest contact stiffness per vertex (p_N) over the mass of a cover of the
+    /// lightest material (ρ h²), so that a cover held only by the regularisation (its
+    /// contacts all open or sliding) moves about 100 × its unbalanced force / p_N per
+    /// iteration. Without contacts, 1% of the largest E over ρ h² (the elastic scale).
+    fn static_regularisation(&self) -> f64 {
+        let h = self.model.cover_size;
+        let rho = self
+            .model
+            .materials
+            .iter()
+            .map(|m| m.density)
+            .fold(f64::INFINITY, f64::min);
+        let stiffness = self
+            .model
+            .interfaces
+            .iter()
+            .map(|i| i.normal_penalty)
+            .fold(0.0, f64::max)
+            .max(
+                self.model
+                    .materials
+                    .iter()
+                    .map(|m| m.young)
+                    .fold(0.0, f64::max),
+            );
+        0.01 * stiffness / (rho * h * h)
+    }
+
 
     /// The first element whose triangle or polygon would change orientation under `du`.
     fn inverted_element(&self, du: &[f64]) -> Option<usize> {
@@ -842,6 +1046,9 @@ struct Rhs<'a> {
     t1: f64,
     dt: f64,
 }
+
+/// Outer iterations of the static continuation ([`Simulation::static_continuation`]).
+pub const STATIC_OUTER_ITERATIONS: usize = 40;
 
 /// Largest motion of a static step that found no equilibrium, as a fraction of the cover
 /// size h (DDA's step-by-step development of a mechanism).

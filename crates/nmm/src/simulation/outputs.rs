@@ -475,6 +475,7 @@ pub fn run_simulation(
     std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
     let mut summary = RunSummary {
         n_blocks: sim.model.blocks.len(),
+        static_mode: sim.model.analysis.mode == crate::model::Mode::Static,
         n_dofs: sim.n_dofs(),
         n_elements: sim.disc.elements.len(),
         n_covers: sim.disc.covers.len(),

@@ -24,12 +24,19 @@
 //! * after `max_rejections` ([`NewtonOptions`]) such rejections in a row the solve
 //!   reports failure.
 //!
+//! **Trust region.** No unknown may change by more than `max_step` in one iteration (the
+//! contact search distance: the contact set does not describe longer motions). A longer
+//! Newton step comes from a mode the chosen branches leave without stiffness; σ is raised
+//! until that mode moves about `max_step` and the direction is recomputed.
+//!
 //! **Regularisation σ S** (S the system's mass matrix; [`Regularisation`]): none in dynamic
 //! analysis, whose inertia is part of R. In static analysis (pseudo-transient continuation,
-//! Kelley & Keyes 1998) σ starts at the step's inertia coefficient 2/Δt² and is lowered with
-//! the residual (switched evolution relaxation: σ ← σ ‖R_new‖/‖R_old‖), so the first
-//! direction is DDA's quasi-static step and the last ones are Newton's on the static
-//! equilibrium: the converged point is the equilibrium, whatever Δt.
+//! Kelley & Keyes 1998) σ starts at σ₀ and is lowered with the residual (switched evolution
+//! relaxation: σ ← σ ‖R_new‖/‖R_old‖) down to a floor: the first directions are those of a
+//! damped (quasi-static) step, the last ones Newton's on the static equilibrium. σ enters
+//! only the tangent, never R, so the converged point is the equilibrium whatever σ; the
+//! floor keeps modes that the chosen branches leave without stiffness (a block whose
+//! contacts all slide or open, in a degenerate equilibrium) from taking unbounded steps.
 //!
 //! **Convergence**: ‖R‖ ≤ tol · F_phys for the true residual R, with F_phys the system's
 //! physical force scale (loads, weights, reactions, contact forces — never penalty targets).
@@ -83,8 +90,8 @@ pub trait PiecewiseSystem: TangentOperator {
 pub enum Regularisation {
     /// σ = 0 unless a rejected step forces it up (then from `fallback`).
     None { fallback: f64 },
-    /// Pseudo-transient continuation from σ₀ (see the module docs).
-    Continuation { initial: f64 },
+    /// Pseudo-transient continuation from σ₀, never below `floor` (see the module docs).
+    Continuation { initial: f64, floor: f64 },
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -94,6 +101,9 @@ pub struct NewtonOptions {
     pub regularisation: Regularisation,
     /// Consecutive rejected directions before the solve gives up ([`MAX_REJECTIONS`]).
     pub max_rejections: usize,
+    /// Largest change of any unknown in one iteration (the trust region; `f64::INFINITY`
+    /// for none).
+    pub max_step: f64,
 }
 
 #[derive(Debug, Clone, Default)]
@@ -116,6 +126,8 @@ pub struct NewtonReport {
     pub provisional_steps: usize,
     /// Pieces on another branch than the one of the last direction, at convergence.
     pub inconsistent: usize,
+    /// Directions recomputed with a larger σ because they left the trust region.
+    pub limited_steps: usize,
     /// Branch changes over the iterations (after the first choice).
     pub active_set_changes: usize,
     /// Length of the last accepted increment ‖α δ‖.
@@ -133,6 +145,8 @@ const ARMIJO: f64 = 1e-4;
 /// Full Newton steps that may raise the merit above the best point's before the iteration
 /// returns to that point (the watchdog).
 pub const WATCHDOG: usize = 3;
+/// Largest rise of the merit over the best point's that the watchdog keeps.
+pub const WATCHDOG_GROWTH: f64 = 1e4;
 /// Relative accuracy of the linear solves while the active set moves.
 const LOOSE: f64 = 1e-3;
 /// Whether moving active sets get loose solves (measured on the brick walls: fewer GMRES
@@ -160,7 +174,11 @@ pub fn solve_piecewise(
     let mut rt = vec![0.0; n];
     let (mut sigma, sigma0) = match opts.regularisation {
         Regularisation::None { fallback } => (0.0, fallback),
-        Regularisation::Continuation { initial } => (initial, initial),
+        Regularisation::Continuation { initial, .. } => (initial, initial),
+    };
+    let floor = match opts.regularisation {
+        Regularisation::Continuation { floor, .. } => floor,
+        Regularisation::None { .. } => 0.0,
     };
     let continuation = matches!(opts.regularisation, Regularisation::Continuation { .. });
 
@@ -215,6 +233,20 @@ pub fn solve_piecewise(
             rep.error = Some(e);
             break;
         }
+        // Trust region: no unknown moves more than `max_step` in one iteration. A longer
+        // step comes from a mode the chosen branches leave (nearly) without stiffness (a
+        // block whose contacts all slide or open, held only by the regularisation); σ is
+        // raised so that this mode moves about `max_step`, and the direction recomputed.
+        let dmax = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if std::env::var_os("NMM_DEBUG_BRANCHES").is_some() {
+            eprintln!("  direction: |rb| {rbn:.3e} |d|inf {dmax:.3e} rtol {rtol:.1e} sigma {sigma:.2e}");
+        }
+        if dmax > opts.max_step && rep.iterations < opts.max_iterations {
+            let base = if sigma > 0.0 { sigma } else { sigma0 };
+            sigma = base * (2.0 * dmax / opts.max_step).min(1e12);
+            rep.limited_steps += 1;
+            continue;
+        }
         // Full step, judged against the best point so far (watchdog); a monotone line
         // search from the best point when the watchdog runs out.
         let mut alpha = 1.0;
@@ -236,14 +268,17 @@ pub fn solve_piecewise(
                 );
             }
             let decrease = pt.is_finite() && pt <= (1.0 - ARMIJO * alpha) * phi_best;
-            let provisional_ok = !monotone && pt.is_finite() && provisional < WATCHDOG;
+            let provisional_ok = !monotone
+                && pt.is_finite()
+                && pt <= WATCHDOG_GROWTH * phi_best
+                && provisional < WATCHDOG;
             if decrease || provisional_ok {
                 x.copy_from_slice(&trial);
                 std::mem::swap(&mut r, &mut rt);
                 inconsistent = inc;
                 rep.last_step = alpha * norm(&d);
                 if continuation {
-                    sigma *= (pt / phi).min(1.0);
+                    sigma = (sigma * (pt / phi).min(1.0)).max(floor);
                 }
                 phi = pt;
                 if decrease {
@@ -484,6 +519,7 @@ mod tests {
                 tolerance: 1e-12,
                 regularisation: Regularisation::None { fallback: 1.0 },
                 max_rejections: MAX_REJECTIONS,
+                max_step: f64::INFINITY,
             },
         );
         assert!(rep.converged, "{rep:?}");
@@ -518,12 +554,16 @@ mod tests {
             tolerance: 1e-12,
             regularisation: reg,
             max_rejections: MAX_REJECTIONS,
+            max_step: f64::INFINITY,
         };
         let ra = solve_piecewise(
             &mut a,
             &mut lin,
             &mut xa,
-            opts(Regularisation::Continuation { initial: 5.0 }),
+            opts(Regularisation::Continuation {
+                initial: 5.0,
+                floor: 0.0,
+            }),
         );
         assert!(ra.converged, "{ra:?}");
         let mut b = chain(30);

@@ -1,0 +1,105 @@
+//! Running-bond brick walls (the DDA peer's benchmark geometry, `nmm::generate::wall`):
+//! dynamic release under gravity (Δt = 1 ms, 20 steps) with no step cut and few Newton
+//! iterations, and static settling with Δt = 1 s in 3 steps, whose base reaction equals the
+//! weight. CI runs the 10 × 10 and 20 × 20 walls; larger ones are ignored tests
+//! (`cargo test --release --test walls -- --ignored`) and benchmarks.
+//!
+//! Reference for the static case: statics — the fixed base carries the whole weight,
+//! W = γ · (area of bricks), to 1e-6 relative (the equilibrium tolerance is 1e-9 of the
+//! physical forces; the base reaction is summed from the contact forces).
+
+use nmm::generate::{brick_wall_model, WallOptions, WALL_BRICK_HEIGHT, WALL_BRICK_LENGTH, WALL_UNIT_WEIGHT};
+use nmm::model::Mode;
+use nmm::simulation::Simulation;
+use nmm::verify::cases::{median, model};
+
+struct WallRun {
+    solves: Vec<usize>,
+    cuts: usize,
+    base_reaction: f64,
+    weight: f64,
+}
+
+fn run_wall(n: usize, mode: Mode, dt: f64, steps: usize) -> WallRun {
+    let mut o = WallOptions::new(n, n);
+    o.mode = mode;
+    o.dt = dt;
+    o.steps = steps;
+    let mut sim = Simulation::new(model(&brick_wall_model(&o)).unwrap()).unwrap();
+    let (mut solves, mut cuts) = (Vec::new(), 0);
+    while !sim.finished() {
+        let rep = sim.advance().unwrap_or_else(|e| panic!("{n}×{n} {mode:?}: {e}"));
+        solves.push(rep.solves);
+        cuts += rep.cuts;
+    }
+    // block 0 is the base: the force on every brick from the base, summed
+    let base_reaction: f64 = (1..sim.model.blocks.len())
+        .map(|b| sim.contacts.interface_force(b, 0).fy)
+        .sum();
+    let weight = WALL_UNIT_WEIGHT * WALL_BRICK_LENGTH * WALL_BRICK_HEIGHT * (n * n) as f64;
+    WallRun {
+        solves,
+        cuts,
+        base_reaction,
+        weight,
+    }
+}
+
+fn dynamic(n: usize) {
+    let r = run_wall(n, Mode::Dynamic, 1e-3, 20);
+    eprintln!(
+        "{n}×{n} dynamic: solves per step {:?} (median {}), cuts {}",
+        r.solves,
+        median(&r.solves),
+        r.cuts
+    );
+    assert_eq!(r.cuts, 0, "{n}×{n}");
+    assert!(median(&r.solves) <= 4, "{n}×{n}: median {}", median(&r.solves));
+}
+
+fn settled(n: usize) {
+    let r = run_wall(n, Mode::Static, 1.0, 3);
+    let rel = (r.base_reaction / r.weight - 1.0).abs();
+    eprintln!(
+        "{n}×{n} static, Δt = 1 s: solves per step {:?}, cuts {}, base reaction {:.9e} vs weight {:.9e} (rel {rel:.1e})",
+        r.solves, r.cuts, r.base_reaction, r.weight
+    );
+    assert_eq!(r.cuts, 0, "{n}×{n}");
+    assert!(rel < 1e-6, "{n}×{n}: {} vs {}", r.base_reaction, r.weight);
+}
+
+#[test]
+fn wall_10_dynamic_release() {
+    dynamic(10);
+}
+
+#[test]
+fn wall_20_dynamic_release() {
+    dynamic(20);
+}
+
+#[test]
+fn wall_10_static_with_one_second_steps() {
+    settled(10);
+}
+
+#[test]
+fn wall_20_static_with_one_second_steps() {
+    settled(20);
+}
+
+#[test]
+#[ignore = "large: run with --ignored"]
+fn walls_30_to_50_dynamic_release() {
+    for n in [30, 40, 50] {
+        dynamic(n);
+    }
+}
+
+#[test]
+#[ignore = "large: run with --ignored"]
+fn walls_30_to_50_static_with_one_second_steps() {
+    for n in [30, 40, 50] {
+        settled(n);
+    }
+}

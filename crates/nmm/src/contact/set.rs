@@ -57,6 +57,8 @@ pub struct Contact {
     pub position: Vec2,
     pub normal: Vec2,
     pub tangent: Vec2,
+    /// Joint that made the edge block's face, if any (it chose the interface).
+    pub joint: Option<usize>,
 }
 
 impl Contact {
@@ -96,6 +98,8 @@ pub struct ContactSnapshot {
     pub state: u8,
     pub first: usize,
     pub second: usize,
+    /// Joint that made the face of `second` the contact is on, if any.
+    pub joint: Option<usize>,
 }
 
 #[derive(Debug, Clone, Default)]
@@ -191,9 +195,9 @@ impl ContactSet {
             if model.blocks[a].fixed && model.blocks[b].fixed {
                 continue;
             }
-            let Some(iface) = model.interface_for(a, b) else {
+            if !model.may_contact(a, b) {
                 continue;
-            };
+            }
             for (pa, pb) in [(a, b), (b, a)] {
                 for mut ve in vertex_edge_contacts(&polys[pa], &polys[pb], search, &corners[pa]) {
                     let key = (pa, ve.vertex, pb);
@@ -212,6 +216,12 @@ impl ContactSet {
                             }
                         }
                     }
+                    // the face's joint (if a joint made it) chooses the interface
+                    let edge = disc.boundaries[pb].segment_edges[ve.segment];
+                    let joint = model.blocks[pb].edge_joint.get(edge).copied().flatten();
+                    let Some(iface) = model.interface_for_face(pa, pb, joint) else {
+                        continue;
+                    };
                     let vert = &disc.boundaries[pa].vertices[ve.vertex];
                     let eb = disc.boundaries[pb].segment_elements[ve.segment];
                     let nb = polys[pb].len();
@@ -285,6 +295,7 @@ impl ContactSet {
                         position: p,
                         normal: ve.normal,
                         tangent: ve.tangent,
+                        joint,
                     });
                 }
             }
@@ -381,11 +392,21 @@ impl ContactSet {
 
     /// Total force on block `first` from block `second` at the last evaluation.
     pub fn interface_force(&self, first: usize, second: usize) -> InterfaceForce {
+        self.interface_force_between(&[first], &[second])
+    }
+
+    /// Total force on the blocks `first` from the blocks `second` (sorted, disjoint index
+    /// lists) at the last evaluation.
+    pub fn interface_force_between(&self, first: &[usize], second: &[usize]) -> InterfaceForce {
         let mut f = InterfaceForce::default();
+        let (is_first, is_second) = (
+            |b: usize| first.binary_search(&b).is_ok(),
+            |b: usize| second.binary_search(&b).is_ok(),
+        );
         for c in &self.contacts {
-            let sign = if c.key.0 == first && c.key.2 == second {
+            let sign = if is_first(c.key.0) && is_second(c.key.2) {
                 -1.0
-            } else if c.key.0 == second && c.key.2 == first {
+            } else if is_second(c.key.0) && is_first(c.key.2) {
                 1.0
             } else {
                 continue;
@@ -419,6 +440,7 @@ impl ContactSet {
                     state: status_code(r.status),
                     first: c.key.0,
                     second: c.key.2,
+                    joint: c.joint,
                 }
             })
             .collect()

@@ -15,10 +15,12 @@
 //! constraint segments on block boundaries) at the tolerance
 //! `1e-9 × (bounding-box diagonal of all blocks)`.
 
+mod joints;
 mod lines;
 mod reader;
 mod types;
 mod validate;
+pub use joints::DEFAULT_MAX_BLOCKS;
 pub use reader::MAX_COORD;
 pub use types::*;
 pub use validate::REL_TOL;

@@ -250,6 +250,17 @@ pub fn run(size: Size, out: &Path) -> Vec<Case> {
             Ok(())
         },
     ));
+    all.push(case(
+        "Block cut by a joint, on an incline",
+        "One block cut by a `[[joint_set]]` trace dipping θ = 30°; the lower piece is held, the upper slides on the face the joint made, which takes the joint's interface (φ = 20°; the default has 60°). Slip after 1 s against ½g(sin θ − cos θ tan φ)t², tolerance 2%; with φ = 35° on the joint, less than 1 mm.",
+        |c| {
+            let (slip, exact, _) = cases::jointed_incline(30.0, 20.0, 1e-3, 1000)?;
+            c.rows.push(Row::relative("slip after 1 s, φ = 20° (m)", slip, exact, 0.02));
+            let (hold, _, _) = cases::jointed_incline(30.0, 35.0, 1e-3, 1000)?;
+            c.rows.push(Row::absolute("slip after 1 s, φ = 35° (m)", hold, 0.0, 1e-3));
+            Ok(())
+        },
+    ));
     let out_plot = out.to_path_buf();
     all.push(case(
         "Direct shear (paper, Figure 4)",

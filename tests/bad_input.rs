@@ -582,6 +582,21 @@ fn cut_block_errors() {
             &at_line(&text, "name = \"slider\""),
         ],
     );
+    // a piece thinner than the mesh resolves
+    let text = format!(
+        "{EXAMPLE}{JOINTS}\n[[joint]]\nname = \"thin\"\npoints = [[-0.1, 1.4999999], [1.1, 1.4999999]]\nblocks = [\"slider\"]\n"
+    );
+    assert_rejected(
+        "thin piece",
+        &text,
+        &[
+            "[[block]] \"slider\"",
+            "key `vertices`",
+            "thinner than the mesh can resolve",
+            "min_block_area",
+            &at_line(&text, "vertices = [[0.0, 1.0], [0.0, 1.5]"),
+        ],
+    );
     // min_block_area and max_blocks
     assert_rejected(
         "min_block_area",

@@ -18,6 +18,9 @@
 //! block around it and is listed in `Model::enclosed`. Joint ids are the sets in file
 //! order, then the joints in file order.
 //!
+//! **Thin pieces.** A piece whose width 2A/P is below [`MIN_PIECE_WIDTH`] × h is refused
+//! with a hint to set `[cover] min_block_area` (which merges it first).
+//!
 //! **Limit.** `[cover] max_blocks` (default [`DEFAULT_MAX_BLOCKS`]) bounds the number of
 //! blocks. Before cutting, each set is checked, in file order, against an estimate of
 //! the blocks the sets so far make: per block, 1 + (traces) + Σ over pairs of
@@ -40,6 +43,11 @@ use std::collections::HashMap;
 
 /// Default of `[cover] max_blocks`.
 pub const DEFAULT_MAX_BLOCKS: usize = 100_000;
+
+/// A piece thinner (2 × area / perimeter) than this × h is refused: the discretisation
+/// drops manifold elements thinner than 1e-5 h (`cover::MIN_PIECE_WIDTH`), and a block
+/// that thin has nothing left to carry it.
+pub const MIN_PIECE_WIDTH: f64 = 1e-4;
 
 /// A joint with the blocks (indices into the blocks as drawn) it cuts and where it is written.
 pub(crate) struct JointSpec {
@@ -379,8 +387,7 @@ pub(crate) fn cut(
     blocks: Vec<Block>,
     specs: &[JointSpec],
     tol: f64,
-    min_area: Option<f64>,
-    max_blocks: usize,
+    (h, min_area, max_blocks): (f64, Option<f64>, usize),
 ) -> R<Cutting> {
     let mut by_block: Vec<Vec<usize>> = vec![Vec::new(); blocks.len()];
     for (j, s) in specs.iter().enumerate() {
@@ -434,6 +441,21 @@ pub(crate) fn cut(
             }
         }
         for (k, p) in c.pieces.iter().enumerate() {
+            if split {
+                let area = crate::geometry::polygon::signed_area(&p.vertices);
+                let n = p.vertices.len();
+                let perimeter: f64 = (0..n)
+                    .map(|i| dist(p.vertices[i], p.vertices[(i + 1) % n]))
+                    .sum();
+                let width = 2.0 * area / perimeter;
+                if !(width >= MIN_PIECE_WIDTH * h) {
+                    return Err(error(format!(
+                        "[[block]] {:?}: key `vertices`: the joints cut off a piece ({:?}, area {area:.3e} m²) only {width:.3e} m thick, thinner than the mesh can resolve ({MIN_PIECE_WIDTH:e} × [cover] size); set [cover] min_block_area to merge such pieces into their neighbours, or move the joints{at}",
+                        block.name,
+                        format!("{}.{}", block.name, k + 1),
+                    )));
+                }
+            }
             let bad = degeneracy(&p.vertices, tol).is_some()
                 || self_intersection(&p.vertices, tol).is_some();
             if bad {

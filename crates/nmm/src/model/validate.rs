@@ -105,8 +105,7 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
         blocks,
         &specs,
         tol,
-        cov.min_block_area,
-        cov.max_blocks,
+        (cov.size, cov.min_block_area, cov.max_blocks),
     )?;
     let blocks = cutting.blocks;
     let names = Names::new(drawn, &cutting.pieces_of, &blocks);

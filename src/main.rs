@@ -317,6 +317,23 @@ fn figures(out: &Path) -> anyhow::Result<ExitCode> {
         )
         .map_err(anyhow::Error::msg)?,
     );
+    // The jointed slope example, as cut by its joints.
+    let slope = nmm::model::parse_model(
+        include_str!("../examples/jointed_slope.toml"),
+        Path::new("examples"),
+    )?;
+    let pieces = slope.blocks.iter().filter(|b| b.parent.is_some()).count();
+    files.extend(
+        nmm::verify::report::figure_blocks(
+            &out.join("jointed_slope"),
+            &slope,
+            &format!(
+                "examples/jointed_slope.toml: the slope cut into {pieces} blocks, {} cracks (red)",
+                slope.cracks.len()
+            ),
+        )
+        .map_err(anyhow::Error::msg)?,
+    );
     for f in files {
         println!("{}", f.display());
     }

@@ -952,3 +952,44 @@ fn check_prints_the_summary_as_json_and_as_text() {
         assert!(text.contains(&line), "{line:?} not in {text}");
     }
 }
+
+/// The shipped jointed slope: one mass cut by two sets and a fault into 100+ blocks, with
+/// cracks and merged slivers reported; `nmm check` accepts it.
+#[test]
+fn the_jointed_slope_example_is_cut_as_described() {
+    let text = include_str!("../examples/jointed_slope.toml");
+    let m = parse_model(text, Path::new("examples")).unwrap();
+    let pieces = m
+        .blocks
+        .iter()
+        .filter(|b| b.parent.as_deref() == Some("slope"))
+        .count();
+    assert_eq!(pieces + 1, m.blocks.len());
+    assert!(pieces >= 100, "{pieces}");
+    assert_eq!(m.joints.len(), 3);
+    assert!(!m.cracks.is_empty() && !m.merged.is_empty());
+    let total: f64 = m.blocks.iter().map(|b| area(&b.vertices)).sum();
+    assert!((total - 830.0).abs() < 1e-9 * 830.0, "{total}");
+    for b in &m.blocks[1..] {
+        assert!(
+            area(&b.vertices) >= 0.05,
+            "{} is below min_block_area",
+            b.name
+        );
+    }
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_nmm"))
+        .args(["check", "examples/jointed_slope.toml"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains(&format!("blocks: {} (1 fixed)", m.blocks.len())),
+        "{stdout}"
+    );
+}

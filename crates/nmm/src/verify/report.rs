@@ -3,7 +3,7 @@
 //! and `nmm figures`: the paper's Figures 4 and 6 in form.
 
 use super::cases::{self, SineMotion};
-use crate::output::plot::{plot_panels, LineStyle, Panel, Series};
+use crate::output::plot::{plot_map, plot_panels, LineStyle, MapLine, MapPolygon, Panel, Series};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -376,4 +376,48 @@ pub fn markdown(cases: &[Case], size: Size, out: &Path) -> String {
         }
     }
     s
+}
+
+/// The blocks of a model as cut by its joints (`<stem>.png`, `<stem>.svg`): pieces in
+/// palette colours (fixed blocks grey), the faces joints made in black, cracks (traces
+/// ending inside a block) in red.
+pub fn figure_blocks(
+    stem: &Path,
+    model: &crate::model::Model,
+    title: &str,
+) -> Result<Vec<PathBuf>, String> {
+    let xy = |v: &[[f64; 2]]| v.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>();
+    let polygons: Vec<MapPolygon> = model
+        .blocks
+        .iter()
+        .enumerate()
+        .map(|(i, b)| MapPolygon {
+            points: xy(&b.vertices),
+            // grey (palette 7) for fixed blocks, the others cycling through the rest
+            colour: if b.fixed {
+                7
+            } else {
+                [0, 1, 2, 4, 5, 6, 8, 9][i % 8]
+            },
+        })
+        .collect();
+    let mut lines = Vec::new();
+    for b in &model.blocks {
+        let n = b.vertices.len();
+        for (k, j) in b.edge_joint.iter().enumerate() {
+            if j.is_some() {
+                lines.push(MapLine {
+                    points: xy(&[b.vertices[k], b.vertices[(k + 1) % n]]),
+                    colour: 7,
+                    width: 2,
+                });
+            }
+        }
+    }
+    lines.extend(model.cracks.iter().map(|c| MapLine {
+        points: xy(&c.points),
+        colour: 3,
+        width: 3,
+    }));
+    plot_map(stem, title, &polygons, &lines, 1100).map_err(|e| e.to_string())
 }

@@ -741,13 +741,14 @@ pub fn cut_polygon(
     let final_index: HashMap<u32, usize> =
         pieces.iter().enumerate().map(|(i, p)| (p.2, i)).collect();
     let pieces: Vec<Piece> = pieces.into_iter().map(|p| p.0).collect();
+    let index = PieceIndex::new(&pieces, tol);
 
     let merged = merged
         .into_iter()
         .map(|(f, area, centroid)| Merge {
             into: f
                 .and_then(|f| final_index.get(&f).copied())
-                .unwrap_or_else(|| locate(&pieces, centroid, tol)),
+                .unwrap_or_else(|| index.locate(centroid)),
             area,
             centroid,
         })
@@ -755,7 +756,7 @@ pub fn cut_polygon(
     let enclosed = islands
         .into_iter()
         .map(|(area, centroid)| Merge {
-            into: locate(&pieces, centroid, tol),
+            into: index.locate(centroid),
             area,
             centroid,
         })
@@ -767,7 +768,7 @@ pub fn cut_polygon(
         .map(|(trace, points)| {
             let mid = lerp(points[0], points[1], 0.5);
             Crack {
-                piece: locate(&pieces, mid, tol),
+                piece: index.locate(mid),
                 trace: trace as usize,
                 joint: traces[trace as usize].joint,
                 points,
@@ -782,30 +783,66 @@ pub fn cut_polygon(
     })
 }
 
-/// The piece containing `p` (inside, else on its boundary, else the nearest).
-fn locate(pieces: &[Piece], p: Vec2, tol: f64) -> usize {
-    let mut best = (f64::INFINITY, 0);
-    for (i, pc) in pieces.iter().enumerate() {
-        let bb = Aabb::of_points(&pc.vertices).inflate(tol);
-        if !bb.overlaps(&Aabb::of_points(&[p])) && best.0 < f64::INFINITY {
-            continue;
+/// Point location among the pieces: a uniform grid of cells listing the pieces whose
+/// box meets them.
+struct PieceIndex<'a> {
+    pieces: &'a [Piece],
+    boxes: Vec<Aabb>,
+    grid: SegGrid,
+    tol: f64,
+}
+
+impl<'a> PieceIndex<'a> {
+    fn new(pieces: &'a [Piece], tol: f64) -> Self {
+        let boxes: Vec<Aabb> = pieces
+            .iter()
+            .map(|p| Aabb::of_points(&p.vertices).inflate(tol))
+            .collect();
+        let all = boxes.iter().fold(Aabb::empty(), |a, b| a.merge(b));
+        let mut grid = SegGrid::new(all, pieces.len());
+        for (i, b) in boxes.iter().enumerate() {
+            for r in grid.row(b.min[1])..=grid.row(b.max[1]) {
+                for c in grid.col(b.min[0])..=grid.col(b.max[0]) {
+                    let k = r * grid.nx + c;
+                    grid.cells[k].push(i as u32);
+                }
+            }
         }
-        match point_in_polygon(&pc.vertices, p, tol) {
-            Location::Inside => return i,
-            Location::Boundary => {
-                if best.0 > 0.0 {
-                    best = (0.0, i);
-                }
-            }
-            Location::Outside => {
-                let d = super::polygon::boundary_distance(&pc.vertices, p);
-                if d < best.0 {
-                    best = (d, i);
-                }
-            }
+        PieceIndex {
+            pieces,
+            boxes,
+            grid,
+            tol,
         }
     }
-    best.1
+
+    /// The piece containing `p` (inside, else on its boundary, else the nearest).
+    fn locate(&self, p: Vec2) -> usize {
+        let cell = self.grid.row(p[1]) * self.grid.nx + self.grid.col(p[0]);
+        let mut on = None;
+        for &i in &self.grid.cells[cell] {
+            let (i, b) = (i as usize, &self.boxes[i as usize]);
+            if !(p[0] >= b.min[0] && p[0] <= b.max[0] && p[1] >= b.min[1] && p[1] <= b.max[1]) {
+                continue;
+            }
+            match point_in_polygon(&self.pieces[i].vertices, p, self.tol) {
+                Location::Inside => return i,
+                Location::Boundary => on = on.or(Some(i)),
+                Location::Outside => {}
+            }
+        }
+        on.unwrap_or_else(|| {
+            (0..self.pieces.len())
+                .map(|i| {
+                    (
+                        super::polygon::boundary_distance(&self.pieces[i].vertices, p),
+                        i,
+                    )
+                })
+                .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a })
+                .1
+        })
+    }
 }
 
 /// Exactly one face of negative area (the outline) and no edge with the same face on

@@ -251,7 +251,7 @@ pub fn run(size: Size, out: &Path) -> Vec<Case> {
         },
     ));
     all.push(case(
-        "Block cut by a joint, on an incline",
+        "Jointed block on an incline",
         "One block cut by a `[[joint_set]]` trace dipping θ = 30°; the lower piece is held, the upper slides on the face the joint made, which takes the joint's interface (φ = 20°; the default has 60°). Slip after 1 s against ½g(sin θ − cos θ tan φ)t², tolerance 2%; with φ = 35° on the joint, less than 1 mm.",
         |c| {
             let (slip, exact, _) = cases::jointed_incline(30.0, 20.0, 1e-3, 1000)?;

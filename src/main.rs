@@ -39,6 +39,9 @@ enum Command {
     /// Validate a model and print a summary (blocks, covers, elements, unknowns) without running it.
     Check {
         model: PathBuf,
+        /// Print the summary as one JSON object.
+        #[arg(long)]
+        json: bool,
         /// Do not print the model's warnings.
         #[arg(long)]
         quiet: bool,
@@ -69,7 +72,7 @@ fn main() -> ExitCode {
             no_vtk,
             quiet,
         } => run(&model, &out, friction.as_deref(), !no_vtk, quiet),
-        Command::Check { model, quiet } => check(&model, quiet),
+        Command::Check { model, json, quiet } => check(&model, json, quiet),
         Command::Verify { out, full } => verify(&out, full),
         Command::Figures { out } => figures(&out),
     };
@@ -87,7 +90,46 @@ fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
-fn check(path: &Path, quiet: bool) -> anyhow::Result<ExitCode> {
+/// The cutting of the model's blocks by its joints, in one line (None without joints).
+fn cutting_line(m: &nmm::model::Model) -> Option<String> {
+    if m.joints.is_empty() {
+        return None;
+    }
+    let sets = m
+        .joints
+        .iter()
+        .filter(|j| matches!(j.kind, nmm::model::JointKind::Set { .. }))
+        .count();
+    let pieces = m.blocks.iter().filter(|b| b.parent.is_some()).count();
+    let mut parents: Vec<&str> = m
+        .blocks
+        .iter()
+        .filter_map(|b| b.parent.as_deref())
+        .collect();
+    parents.dedup();
+    let mut line = format!(
+        "cutting: {} joint set(s) and {} joint(s) cut {} block(s) into {pieces} pieces; {} crack(s)",
+        sets,
+        m.joints.len() - sets,
+        parents.len(),
+        m.cracks.len()
+    );
+    if !m.enclosed.is_empty() {
+        line.push_str(&format!(
+            "; {} region(s) enclosed by a loop of traces that reaches no block boundary kept inside their block (the loops are cracks)",
+            m.enclosed.len()
+        ));
+    }
+    if let Some(a) = m.min_block_area {
+        line.push_str(&format!(
+            "; {} piece(s) smaller than min_block_area = {a} m² merged into their neighbours",
+            m.merged.len()
+        ));
+    }
+    Some(line)
+}
+
+fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
     let model = nmm::model::load_model(path)?;
     let sim = nmm::simulation::Simulation::new(model).map_err(anyhow::Error::msg)?;
     if !quiet {
@@ -96,25 +138,75 @@ fn check(path: &Path, quiet: bool) -> anyhow::Result<ExitCode> {
         }
     }
     let m = &sim.model;
-    println!("model: {}", path.display());
-    println!(
-        "blocks: {} ({} fixed)",
-        m.blocks.len(),
-        m.blocks.iter().filter(|b| b.fixed).count()
+    let areas: Vec<f64> = m
+        .blocks
+        .iter()
+        .map(|b| nmm::geometry::polygon::signed_area(&b.vertices))
+        .collect();
+    let total: f64 = areas.iter().sum();
+    let (smallest, smallest_at) = areas.iter().enumerate().fold(
+        (f64::INFINITY, 0),
+        |acc, (i, &a)| if a < acc.0 { (a, i) } else { acc },
     );
+    let fixed = m.blocks.iter().filter(|b| b.fixed).count();
+    let mut parents: Vec<&str> = m
+        .blocks
+        .iter()
+        .filter_map(|b| b.parent.as_deref())
+        .collect();
+    parents.dedup();
+    if json {
+        let v = serde_json::json!({
+            "model": path.display().to_string(),
+            "blocks": m.blocks.len(),
+            "fixed_blocks": fixed,
+            "cut_blocks": parents.len(),
+            "joints": m.joints.len(),
+            "cracks": m.cracks.len(),
+            "merged_pieces": m.merged.len(),
+            "enclosed_pieces": m.enclosed.len(),
+            "physical_covers": sim.disc.covers.len(),
+            "manifold_elements": sim.disc.elements.len(),
+            "unknowns": sim.n_dofs(),
+            "block_area_total": total,
+            "smallest_block_area": smallest,
+            "smallest_block": m.blocks[smallest_at].name,
+        });
+        println!("{v}");
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!("model: {}", path.display());
+    println!("blocks: {} ({} fixed)", m.blocks.len(), fixed);
     println!("physical covers: {}", sim.disc.covers.len());
     println!("manifold elements: {}", sim.disc.elements.len());
     println!("unknowns: {}", sim.n_dofs());
+    println!("cracks: {}", m.cracks.len());
+    println!(
+        "block area: total {total} m², smallest {smallest} m² (block \"{}\")",
+        m.blocks[smallest_at].name
+    );
+    if let Some(line) = cutting_line(m) {
+        println!("{line}");
+        for g in &m.merged {
+            println!(
+                "  merged a piece of {} m² at [{}, {}] into block \"{}\"",
+                g.area, g.centroid[0], g.centroid[1], m.blocks[g.block].name
+            );
+        }
+    }
     println!(
         "analysis: {:?}, dt = {} s, {} steps, friction {:?}",
         m.analysis.mode, m.analysis.dt, m.analysis.steps, m.analysis.friction
     );
+    let mut covers = vec![0usize; m.blocks.len()];
+    for c in &sim.disc.covers {
+        covers[c.block] += 1;
+    }
     for (i, b) in m.blocks.iter().enumerate() {
-        let covers = sim.disc.covers.iter().filter(|c| c.block == i).count();
         println!(
             "  block \"{}\": {} covers, {} elements{}",
             b.name,
-            covers,
+            covers[i],
             sim.disc.block_elements[i].len(),
             if b.fixed { ", fixed" } else { "" }
         );
@@ -138,6 +230,15 @@ fn run(
                 "--friction: expected \"return-mapping\" or \"conventional\", got \"{other}\""
             ),
         };
+    }
+    if let Some(line) = cutting_line(&model) {
+        eprintln!("{line}");
+        if !model.cracks.is_empty() {
+            eprintln!(
+                "warning: the {} crack(s) (traces ending inside a block) are kept as data only: they do not split the covers in this version",
+                model.cracks.len()
+            );
+        }
     }
     let stop = Arc::new(AtomicBool::new(false));
     {
@@ -238,6 +339,23 @@ fn figures(out: &Path) -> anyhow::Result<ExitCode> {
             &rm,
             &conv,
             "Shaking-table slope, θ = 30°",
+        )
+        .map_err(anyhow::Error::msg)?,
+    );
+    // The jointed slope example, as cut by its joints.
+    let slope = nmm::model::parse_model(
+        include_str!("../examples/jointed_slope.toml"),
+        Path::new("examples"),
+    )?;
+    let pieces = slope.blocks.iter().filter(|b| b.parent.is_some()).count();
+    files.extend(
+        nmm::verify::report::figure_blocks(
+            &out.join("jointed_slope"),
+            &slope,
+            &format!(
+                "examples/jointed_slope.toml: the slope cut into {pieces} blocks, {} cracks (red)",
+                slope.cracks.len()
+            ),
         )
         .map_err(anyhow::Error::msg)?,
     );

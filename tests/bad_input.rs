@@ -445,3 +445,261 @@ fn wrong_types_and_shapes() {
     );
     assert_rejected("pair uncovered", &mutate("[[interface]]\nfriction_angle = 30.0\nnormal_penalty = 1.0e10\nshear_penalty = 1.0e7\n", ""), &["[[interface]]", "\"base\" and \"upper\""]);
 }
+
+/// The example with a joint set cutting `slider` and `upper`, a fault across `slider`,
+/// and an interface for the set's faces.
+const JOINTS: &str = r#"
+[[joint_set]]
+name = "bedding"
+angle = 35.0
+spacing = 0.3
+origin = [0.05, 1.02]
+blocks = ["slider", "upper"]
+
+[[joint]]
+name = "fault"
+points = [[0.2, 0.9], [0.8, 1.6]]
+blocks = ["slider"]
+
+[[interface]]
+joint = "bedding"
+friction_angle = 25.0
+normal_penalty = 1.0e10
+shear_penalty = 1.0e7
+"#;
+
+/// The jointed example with `from` replaced by `to` (which must occur in JOINTS).
+fn jointed(from: &str, to: &str) -> String {
+    assert!(JOINTS.contains(from), "{from:?} is not in JOINTS");
+    format!("{EXAMPLE}{}", JOINTS.replacen(from, to, 1))
+}
+
+/// `model.toml, line N)` for the first line of `text` containing `needle`.
+fn at_line(text: &str, needle: &str) -> String {
+    let i = text
+        .find(needle)
+        .unwrap_or_else(|| panic!("{needle:?} not found"));
+    format!("model.toml, line {})", text[..i].matches('\n').count() + 1)
+}
+
+#[test]
+fn the_jointed_example_is_accepted() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("model.toml");
+    std::fs::write(&path, format!("{EXAMPLE}{JOINTS}")).unwrap();
+    let (ok, stdout, stderr) = check(&path);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("blocks: 11 (1 fixed)"), "{stdout}");
+    assert!(stdout.contains("block \"slider.6\""), "{stdout}");
+}
+
+#[test]
+fn joint_errors() {
+    let cases: [(&str, &str, &str, &[&str]); 12] = [
+        (
+            "points = [[0.2, 0.9], [0.8, 1.6]]",
+            "points = [[0.2, 0.9]]",
+            "points = [[0.2, 0.9]]",
+            &[
+                "[[joint]] \"fault\"",
+                "key `points`",
+                "at least 2 points, got 1",
+            ],
+        ),
+        (
+            "points = [[0.2, 0.9], [0.8, 1.6]]",
+            "points = [[0.2, 0.9], [0.2, 0.9], [0.8, 1.6]]",
+            "points = [[0.2, 0.9], [0.2",
+            &[
+                "[[joint]] \"fault\"",
+                "key `points`",
+                "segment 1 has zero length",
+            ],
+        ),
+        (
+            "spacing = 0.3",
+            "spacing = 0.0",
+            "spacing = 0.0",
+            &[
+                "[[joint_set]] \"bedding\"",
+                "key `spacing`",
+                "must be positive, got 0",
+            ],
+        ),
+        (
+            "spacing = 0.3",
+            "spacing = -1.5",
+            "spacing = -1.5",
+            &["[[joint_set]] \"bedding\"", "key `spacing`", "got -1.5"],
+        ),
+        (
+            "angle = 35.0",
+            "angle = 180.0",
+            "angle = 180.0",
+            &[
+                "[[joint_set]] \"bedding\"",
+                "key `angle`",
+                "[0, 180)",
+                "got 180",
+            ],
+        ),
+        (
+            "angle = 35.0",
+            "angle = -10.0",
+            "angle = -10.0",
+            &["[[joint_set]] \"bedding\"", "key `angle`", "got -10"],
+        ),
+        (
+            "spacing = 0.3",
+            "spacing = 0.00001",
+            "spacing = 0.00001",
+            &[
+                "[[joint_set]] \"bedding\"",
+                "key `spacing`",
+                "more than `[cover] max_blocks` = 100000",
+            ],
+        ),
+        (
+            "joint = \"bedding\"",
+            "joint = \"beding\"",
+            "joint = \"beding\"",
+            &[
+                "[[interface]] #3 (joint \"beding\")",
+                "key `joint`",
+                "unknown joint \"beding\"",
+            ],
+        ),
+        (
+            "joint = \"bedding\"",
+            "joint = \"bedding\"\nblocks = [\"slider\", \"upper\"]",
+            "joint = \"bedding\"",
+            &[
+                "[[interface]] #3",
+                "key `joint`",
+                "either `blocks` or `joint`",
+            ],
+        ),
+        (
+            "blocks = [\"slider\"]",
+            "blocks = [\"slidr\"]",
+            "blocks = [\"slidr\"]",
+            &[
+                "[[joint]] \"fault\"",
+                "key `blocks`",
+                "unknown block \"slidr\"",
+            ],
+        ),
+        (
+            "name = \"fault\"",
+            "name = \"bedding\"",
+            "name = \"bedding\"\npoints",
+            &[
+                "[[joint]] \"bedding\"",
+                "key `name`",
+                "duplicate joint name",
+            ],
+        ),
+        (
+            "spacing = 0.3",
+            "spacing = 0.3\ntrace_length = 0.5",
+            "[[joint_set]]", // a missing key is reported at its table
+            &["[[joint_set]] \"bedding\"", "key `bridge`", "missing"],
+        ),
+    ];
+    for (from, to, needle, expect) in cases {
+        let text = jointed(from, to);
+        // the offending key is in the appended part
+        let i = EXAMPLE.len() + text[EXAMPLE.len()..].find(needle).unwrap();
+        let line = format!("model.toml, line {})", text[..i].matches('\n').count() + 1);
+        let mut all: Vec<&str> = expect.to_vec();
+        all.push(&line);
+        assert_rejected(&format!("{from} -> {to}"), &text, &all);
+    }
+}
+
+#[test]
+fn cut_block_errors() {
+    // a piece name that is already a block's name
+    let text = format!("{EXAMPLE}{JOINTS}")
+        .replacen("name = \"upper\"", "name = \"slider.2\"", 1)
+        .replace(
+            "blocks = [\"slider\", \"upper\"]",
+            "blocks = [\"slider\", \"slider.2\"]",
+        )
+        .replace("block = \"upper\"", "block = \"slider.2\"");
+    assert_rejected(
+        "piece name clash",
+        &text,
+        &[
+            "[[block]] \"slider\"",
+            "key `name`",
+            "\"slider.2\" is the name of [[block]] #3",
+            &at_line(&text, "name = \"slider\""),
+        ],
+    );
+    // a piece thinner than the mesh resolves
+    let text = format!(
+        "{EXAMPLE}{JOINTS}\n[[joint]]\nname = \"thin\"\npoints = [[-0.1, 1.4999999], [1.1, 1.4999999]]\nblocks = [\"slider\"]\n"
+    );
+    assert_rejected(
+        "thin piece",
+        &text,
+        &[
+            "[[block]] \"slider\"",
+            "key `vertices`",
+            "thinner than the mesh can resolve",
+            "min_block_area",
+            &at_line(&text, "vertices = [[0.0, 1.0], [0.0, 1.5]"),
+        ],
+    );
+    // min_block_area and max_blocks
+    assert_rejected(
+        "min_block_area",
+        &format!("{EXAMPLE}{JOINTS}").replacen(
+            "size = 0.05",
+            "size = 0.05\nmin_block_area = -1.0",
+            1,
+        ),
+        &[
+            "[cover]",
+            "key `min_block_area`",
+            "must be positive",
+            "model.toml, line 11)",
+        ],
+    );
+    assert_rejected(
+        "max_blocks",
+        &format!("{EXAMPLE}{JOINTS}").replacen("size = 0.05", "size = 0.05\nmax_blocks = 5", 1),
+        &[
+            "[[joint_set]] \"bedding\"",
+            "key `spacing`",
+            "more than `[cover] max_blocks` = 5",
+        ],
+    );
+    // an interface pair that repeats one already covered through a cut block's name
+    assert_rejected(
+        "pair through pieces",
+        &format!(
+            "{EXAMPLE}{JOINTS}\n[[interface]]\nblocks = [\"slider.3\", \"base\"]\nfriction_angle = 30.0\nnormal_penalty = 1.0e10\nshear_penalty = 1.0e7\n"
+        ),
+        &["[[interface]] #4 (blocks \"slider.3\", \"base\")", "key `blocks`", "already has an interface ([[interface]] #2)"],
+    );
+    // a monitor between a cut block and one of its own pieces
+    assert_rejected(
+        "monitor sides share a block",
+        &format!("{EXAMPLE}{JOINTS}").replacen(
+            "interface = [\"slider\", \"base\"]",
+            "interface = [\"slider\", \"slider.1\"]",
+            1,
+        ),
+        &["[[monitor]] \"joint\"", "key `interface`", "share a block"],
+    );
+    // the same joint twice in interfaces
+    assert_rejected(
+        "joint interface twice",
+        &format!(
+            "{EXAMPLE}{JOINTS}\n[[interface]]\njoint = \"bedding\"\nfriction_angle = 30.0\nnormal_penalty = 1.0e10\nshear_penalty = 1.0e7\n"
+        ),
+        &["[[interface]] #4 (joint \"bedding\")", "key `joint`", "already has an interface ([[interface]] #3)"],
+    );
+}

@@ -59,7 +59,10 @@ fn check(label: &str, sim: &Simulation, width: f64) {
         Q * width
     );
     assert!(worst < 0.01, "{label}: traction off by {worst}");
-    assert!((total / (Q * width) - 1.0).abs() < 1e-6, "{label}: total force");
+    assert!(
+        (total / (Q * width) - 1.0).abs() < 1e-6,
+        "{label}: total force"
+    );
 }
 
 #[test]

@@ -5,7 +5,7 @@
 //! must satisfy the invariants of the validated types.
 
 use nmm::geometry::polygon::{is_ccw, polygons_overlap};
-use nmm::model::{parse_model, ConstraintGeometry, LoadKind, Model, MonitorKind};
+use nmm::model::{parse_model, ConstraintGeometry, InterfaceScope, LoadKind, Model, MonitorKind};
 use proptest::prelude::*;
 use proptest::sample::Index;
 use std::path::Path;
@@ -15,6 +15,38 @@ mod proptest_cases;
 use proptest_cases::cases;
 
 const EXAMPLE: &str = include_str!("data/example.toml");
+
+/// Tables appended to the example for the jointed variant: a set cutting two blocks, a
+/// fault, a crack ending inside a block, and an interface for the set.
+const JOINTS: &str = r#"
+[[joint_set]]
+name = "bedding"
+angle = 35.0
+spacing = 0.3
+origin = [0.05, 1.02]
+blocks = ["slider", "upper"]
+trace_length = 0.9
+bridge = 0.2
+
+[[joint]]
+name = "fault"
+points = [[0.2, 0.9], [0.8, 1.6]]
+blocks = ["slider"]
+
+[[joint]]
+name = "crack"
+points = [[1.3, 1.25], [1.7, 1.3]]
+
+[[interface]]
+joint = "bedding"
+friction_angle = 25.0
+normal_penalty = 1.0e10
+shear_penalty = 1.0e7
+"#;
+
+fn jointed() -> String {
+    format!("{EXAMPLE}{JOINTS}")
+}
 
 const NUMBERS: &[&str] = &[
     "0",
@@ -140,6 +172,8 @@ fn check_invariants(m: &Model) {
     assert!(m.analysis.dt > 0.0 && m.analysis.steps > 0 && m.cover_size > 0.0);
     for b in &m.blocks {
         assert!(b.material < m.materials.len());
+        assert_eq!(b.edge_joint.len(), b.vertices.len());
+        assert!(b.edge_joint.iter().flatten().all(|&j| j < m.joints.len()));
         assert!(b.vertices.len() >= 3 && is_ccw(&b.vertices), "{b:?}");
         assert!(b.vertices.iter().flatten().all(|x| x.is_finite()));
     }
@@ -157,8 +191,14 @@ fn check_invariants(m: &Model) {
         assert!(mat.density > 0.0 && mat.young > 0.0 && mat.poisson > -1.0 && mat.poisson < 0.5);
     }
     for i in &m.interfaces {
-        if let Some((a, b)) = i.blocks {
-            assert!(a < nb && b < nb && a != b);
+        match &i.scope {
+            InterfaceScope::Blocks(a, b) => {
+                assert!(!a.is_empty() && !b.is_empty());
+                assert!(a.iter().chain(b).all(|&x| x < nb));
+                assert!(a == b || a.iter().all(|x| !b.contains(x)));
+            }
+            InterfaceScope::Joint(j) => assert!(*j < m.joints.len()),
+            InterfaceScope::Default => {}
         }
         assert!(
             (0.0..90.0).contains(&i.friction_angle)
@@ -179,16 +219,24 @@ fn check_invariants(m: &Model) {
             assert!(a != b);
         }
     }
+    for k in &m.cracks {
+        assert!(k.block < nb && k.joint < m.joints.len() && k.points.len() >= 2);
+    }
+    for g in m.merged.iter().chain(&m.enclosed) {
+        assert!(g.block < nb && g.area > 0.0);
+    }
     if let Some(bm) = &m.base_motion {
         assert!(bm.samples.len() >= 2);
         assert!(bm.samples.windows(2).all(|w| w[1][0] > w[0][0]));
         assert!(bm.samples.iter().flatten().all(|x| x.is_finite()));
     }
     for mo in &m.monitors {
-        match mo.kind {
-            MonitorKind::Point { block, .. } => assert!(block < nb),
+        match &mo.kind {
+            MonitorKind::Point { block, .. } => assert!(*block < nb),
             MonitorKind::Interface { first, second } => {
-                assert!(first < nb && second < nb && first != second)
+                assert!(!first.is_empty() && !second.is_empty());
+                assert!(first.iter().chain(second.iter()).all(|&x| x < nb));
+                assert!(first.iter().all(|x| !second.contains(x)));
             }
         }
     }
@@ -213,11 +261,52 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: cases(200), ..ProptestConfig::default() })]
+
+    #[test]
+    fn mutated_jointed_models_never_panic(muts in prop::collection::vec(mutation(), 1..4)) {
+        let mut text = jointed();
+        for m in &muts {
+            text = apply(&text, m);
+        }
+        match parse_model(&text, Path::new(".")) {
+            Ok(model) => check_invariants(&model),
+            Err(e) => {
+                prop_assert!(!e.0.trim().is_empty());
+                prop_assert!(!e.0.contains('\n'), "multi-line error: {:?}", e.0);
+            }
+        }
+    }
+}
+
+#[test]
+fn every_number_of_the_joint_tables_can_be_replaced_without_panic() {
+    let text = jointed();
+    let spans: Vec<(usize, usize)> = number_spans(&text)
+        .into_iter()
+        .filter(|&(a, _)| a >= EXAMPLE.len())
+        .collect();
+    assert!(spans.len() > 15, "scanner found {} numbers", spans.len());
+    for &(a, b) in &spans {
+        for v in NUMBERS {
+            let t = format!("{}{}{}", &text[..a], v, &text[b..]);
+            match parse_model(&t, Path::new(".")) {
+                Ok(m) => check_invariants(&m),
+                Err(e) => assert!(!e.0.contains('\n')),
+            }
+        }
+    }
+}
+
 #[test]
 fn the_unmutated_example_is_valid() {
     let m = parse_model(EXAMPLE, Path::new(".")).unwrap();
     check_invariants(&m);
     assert_eq!(m.blocks.len(), 3);
+    let m = parse_model(&jointed(), Path::new(".")).unwrap();
+    check_invariants(&m);
+    assert!(m.blocks.len() > 3 && !m.cracks.is_empty());
 }
 
 #[test]

@@ -156,3 +156,37 @@ fn bad_requests_are_errors() {
         Err(PlotError::Draw { .. })
     ));
 }
+
+/// A map keeps true proportions: a 4 m × 1 m strip at 800 pixels wide gives a figure about
+/// a quarter as high (plus the margins); polygons and lines with non-finite points draw.
+#[test]
+fn map_keeps_true_proportions() {
+    use nmm::output::plot::{plot_map, MapLine, MapPolygon};
+    let dir = tempfile::tempdir().unwrap();
+    let stem = dir.path().join("map");
+    let polygons = vec![
+        MapPolygon {
+            points: vec![(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (0.0, 1.0)],
+            colour: 0,
+        },
+        MapPolygon {
+            points: vec![(2.0, 0.0), (4.0, 0.0), (4.0, 1.0), (2.0, 1.0)],
+            colour: 11,
+        },
+    ];
+    let lines = vec![MapLine {
+        points: vec![(1.0, 0.5), (3.0, 0.5), (f64::NAN, 0.0)],
+        colour: 3,
+        width: 3,
+    }];
+    let files = plot_map(&stem, "strip", &polygons, &lines, 800).unwrap();
+    assert_eq!(files.len(), 2);
+    let (w, h) = png_size(&files[0]);
+    assert_eq!(w, 800);
+    // plot area 720 px wide for 4.24 m, 1.06 m high: 180 px, plus 80 px of labels and title
+    assert!((250..=270).contains(&h), "{h}");
+    assert!(std::fs::read_to_string(&files[1])
+        .unwrap()
+        .contains("strip"));
+    assert!(plot_map(&stem, "x", &polygons, &lines, 10).is_err());
+}

@@ -156,7 +156,7 @@ fn a_failed_run_writes_its_summary_with_the_error() {
     .unwrap()
     .replace(
         "output_every = 1",
-        "output_every = 1\nmax_iterations = 2\nmax_step_cuts = 2",
+        "output_every = 1\nmax_iterations = 1\nmax_step_cuts = 2",
     );
     let (ok, stderr) = nmm_run(&model, dir.path(), &["--no-vtk"]);
     assert!(!ok);

@@ -7,7 +7,7 @@ use std::process::Command;
 #[test]
 fn unconverged_step_is_cut_then_reported_and_outputs_are_kept() {
     let dir = tempfile::tempdir().unwrap();
-    // direct shear: step 1 (elastic → sliding) needs many iterations; allow only 2
+    // direct shear: step 1 (elastic → sliding) needs more than one iteration; allow only 1
     let model = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/examples/direct_shear.toml"
@@ -15,7 +15,7 @@ fn unconverged_step_is_cut_then_reported_and_outputs_are_kept() {
     .unwrap()
     .replace(
         "output_every = 1",
-        "output_every = 1\nmax_iterations = 2\nmax_step_cuts = 2",
+        "output_every = 1\nmax_iterations = 1\nmax_step_cuts = 2",
     );
     let path = dir.path().join("m.toml");
     std::fs::write(&path, model).unwrap();

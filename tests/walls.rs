@@ -8,7 +8,9 @@
 //! W = γ · (area of bricks), to 1e-6 relative (the equilibrium tolerance is 1e-9 of the
 //! physical forces; the base reaction is summed from the contact forces).
 
-use nmm::generate::{brick_wall_model, WallOptions, WALL_BRICK_HEIGHT, WALL_BRICK_LENGTH, WALL_UNIT_WEIGHT};
+use nmm::generate::{
+    brick_wall_model, WallOptions, WALL_BRICK_HEIGHT, WALL_BRICK_LENGTH, WALL_UNIT_WEIGHT,
+};
 use nmm::model::Mode;
 use nmm::simulation::Simulation;
 use nmm::verify::cases::{median, model};
@@ -28,7 +30,9 @@ fn run_wall(n: usize, mode: Mode, dt: f64, steps: usize) -> WallRun {
     let mut sim = Simulation::new(model(&brick_wall_model(&o)).unwrap()).unwrap();
     let (mut solves, mut cuts) = (Vec::new(), 0);
     while !sim.finished() {
-        let rep = sim.advance().unwrap_or_else(|e| panic!("{n}×{n} {mode:?}: {e}"));
+        let rep = sim
+            .advance()
+            .unwrap_or_else(|e| panic!("{n}×{n} {mode:?}: {e}"));
         solves.push(rep.solves);
         cuts += rep.cuts;
     }
@@ -54,7 +58,11 @@ fn dynamic(n: usize) {
         r.cuts
     );
     assert_eq!(r.cuts, 0, "{n}×{n}");
-    assert!(median(&r.solves) <= 4, "{n}×{n}: median {}", median(&r.solves));
+    assert!(
+        median(&r.solves) <= 4,
+        "{n}×{n}: median {}",
+        median(&r.solves)
+    );
 }
 
 fn settled(n: usize) {

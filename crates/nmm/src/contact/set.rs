@@ -98,6 +98,8 @@ pub struct Contact {
     pub position: Vec2,
     pub normal: Vec2,
     pub tangent: Vec2,
+    /// Joint that made the edge block's face, if any (it chose the interface).
+    pub joint: Option<usize>,
 }
 
 impl Contact {
@@ -128,7 +130,6 @@ impl Contact {
         }
         (a, b)
     }
-
 }
 
 fn tangent4(r: &LawResponse) -> [f64; 4] {
@@ -160,6 +161,8 @@ pub struct ContactSnapshot {
     pub state: u8,
     pub first: usize,
     pub second: usize,
+    /// Joint that made the face of `second` the contact is on, if any.
+    pub joint: Option<usize>,
 }
 
 /// Counts of one evaluation of the contact set.
@@ -353,9 +356,9 @@ impl ContactSet {
             if model.blocks[a].fixed && model.blocks[b].fixed {
                 continue;
             }
-            let Some(iface) = model.interface_for(a, b) else {
+            if !model.may_contact(a, b) {
                 continue;
-            };
+            }
             for (pa, pb) in [(a, b), (b, a)] {
                 for mut ve in vertex_edge_contacts(&polys[pa], &polys[pb], search, &corners[pa]) {
                     let key = (pa, ve.vertex, pb);
@@ -374,6 +377,12 @@ impl ContactSet {
                             }
                         }
                     }
+                    // the face's joint (if a joint made it) chooses the interface
+                    let edge = disc.boundaries[pb].segment_edges[ve.segment];
+                    let joint = model.blocks[pb].edge_joint.get(edge).copied().flatten();
+                    let Some(iface) = model.interface_for_face(pa, pb, joint) else {
+                        continue;
+                    };
                     let pb_poly = &polys[pb];
                     let nb = pb_poly.len();
                     let p0 = pb_poly[ve.segment];
@@ -450,6 +459,7 @@ impl ContactSet {
                         position: polys[pa][ve.vertex],
                         normal: ve.normal,
                         tangent: ve.tangent,
+                        joint,
                     });
                 }
             }
@@ -541,7 +551,11 @@ impl ContactSet {
                     head += 1;
                 }
             }
-            changed += usize::from(if first { b != Branch::Open } else { b != c.branch });
+            changed += usize::from(if first {
+                b != Branch::Open
+            } else {
+                b != c.branch
+            });
             c.branch = b;
             c.coef = tangent4(&law.on_branch(&c.params, &c.history, gn, gs, b));
         }
@@ -725,11 +739,21 @@ impl ContactSet {
 
     /// Total force on block `first` from block `second` at the last evaluation.
     pub fn interface_force(&self, first: usize, second: usize) -> InterfaceForce {
+        self.interface_force_between(&[first], &[second])
+    }
+
+    /// Total force on the blocks `first` from the blocks `second` (sorted, disjoint index
+    /// lists) at the last evaluation.
+    pub fn interface_force_between(&self, first: &[usize], second: &[usize]) -> InterfaceForce {
         let mut f = InterfaceForce::default();
+        let (is_first, is_second) = (
+            |b: usize| first.binary_search(&b).is_ok(),
+            |b: usize| second.binary_search(&b).is_ok(),
+        );
         for c in &self.contacts {
-            let sign = if c.key.0 == first && c.key.2 == second {
+            let sign = if is_first(c.key.0) && is_second(c.key.2) {
                 -1.0
-            } else if c.key.0 == second && c.key.2 == first {
+            } else if is_second(c.key.0) && is_first(c.key.2) {
                 1.0
             } else {
                 continue;
@@ -764,6 +788,7 @@ impl ContactSet {
                     state: status_code(r.status),
                     first: c.key.0,
                     second: c.key.2,
+                    joint: c.joint,
                 }
             })
             .collect()
@@ -843,7 +868,14 @@ mod tests {
     #[test]
     fn tributary_lengths_of_a_face_and_of_a_corner() {
         // A: the bottom face of a block, refined at x = 0.3 and 0.7, lying on B's top edge y = 0
-        let a = [[0.0, 0.0], [0.3, 0.0], [0.7, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let a = [
+            [0.0, 0.0],
+            [0.3, 0.0],
+            [0.7, 0.0],
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0],
+        ];
         let (p0, t, n) = ([-1.0, 0.0], [1.0, 0.0], [0.0, 1.0]);
         let w: Vec<f64> = (0..4)
             .map(|i| tributary(&a, i, p0, t, n, -10.0, 10.0))

@@ -671,10 +671,12 @@ fn refine_boundary(
     let h = mesh.h;
     let n = poly.len();
     let mut pts: Vec<(Vec2, bool)> = Vec::with_capacity(2 * n);
+    let mut segment_edges: Vec<usize> = Vec::with_capacity(2 * n);
     let mut ts: Vec<f64> = Vec::new();
     for k in 0..n {
         let (p, q) = (poly[k], poly[(k + 1) % n]);
         pts.push((p, true));
+        segment_edges.push(k);
         let len = crate::geometry::dist(p, q);
         let gp = [(p[0] - mesh.origin[0]) / h, (p[1] - mesh.origin[1]) / h];
         let gq = [(q[0] - mesh.origin[0]) / h, (q[1] - mesh.origin[1]) / h];
@@ -703,6 +705,7 @@ fn refine_boundary(
         for &t in &ts {
             if (t - last) * len > tol && (1.0 - t) * len > tol {
                 pts.push((crate::geometry::lerp(p, q, t), false));
+                segment_edges.push(k);
                 last = t;
             }
         }
@@ -733,6 +736,7 @@ fn refine_boundary(
     Ok(BlockBoundary {
         vertices,
         segment_elements,
+        segment_edges,
     })
 }
 

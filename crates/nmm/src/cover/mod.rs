@@ -105,11 +105,13 @@ pub struct BoundaryVertex {
 }
 
 /// A block's boundary: CCW loop of refined vertices; segment i goes from vertex i
-/// to vertex i+1 (mod n) and lies in element `segment_elements[i]`.
+/// to vertex i+1 (mod n), lies in element `segment_elements[i]` and is a part of the
+/// block polygon's edge `segment_edges[i]` (edge k joins polygon vertex k to k+1 mod n).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BlockBoundary {
     pub vertices: Vec<BoundaryVertex>,
     pub segment_elements: Vec<usize>,
+    pub segment_edges: Vec<usize>,
 }
 
 /// The NMM discretisation of a whole model.

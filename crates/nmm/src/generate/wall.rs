@@ -199,7 +199,7 @@ mod tests {
             assert_eq!((mat.young, mat.poisson), (7.0e9, 0.33));
             assert_eq!(m.interfaces.len(), 1);
             let i = &m.interfaces[0];
-            assert_eq!(i.blocks, None);
+            assert_eq!(i.scope, crate::model::InterfaceScope::Default);
             assert_eq!(i.friction_angle, 30.0);
             assert_eq!((i.normal_penalty, i.shear_penalty), (1e10, 1e10));
 

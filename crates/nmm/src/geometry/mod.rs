@@ -7,6 +7,7 @@
 //! left (for a CCW polygon edge: inside) unless a function says otherwise.
 
 pub mod clip;
+pub mod cut;
 pub mod moments;
 pub mod polygon;
 

@@ -299,6 +299,44 @@ pub fn segment_on_boundary(poly: &[Vec2], a: Vec2, b: Vec2, tol: f64) -> bool {
     false
 }
 
+/// The parts of the segment `ab` that lie along the polygon's boundary (within `tol`),
+/// as sorted, disjoint parameter intervals `[t0, t1] ⊂ [0, 1]` (t along a → b; gaps up
+/// to `tol` are closed, and an interval within `tol` of an end reaches it).
+pub fn segment_boundary_intervals(poly: &[Vec2], a: Vec2, b: Vec2, tol: f64) -> Vec<(f64, f64)> {
+    let ab = sub(b, a);
+    let len = norm(ab);
+    if !(len > tol) || poly.len() < 2 {
+        return Vec::new();
+    }
+    let dir = [ab[0] / len, ab[1] / len];
+    let mut covered: Vec<(f64, f64)> = Vec::new();
+    for i in 0..poly.len() {
+        let (p, q) = edge(poly, i);
+        if cross(dir, sub(p, a)).abs() <= tol && cross(dir, sub(q, a)).abs() <= tol {
+            let (s0, s1) = (dot(sub(p, a), dir), dot(sub(q, a), dir));
+            let (lo, hi) = (s0.min(s1).max(0.0), s0.max(s1).min(len));
+            if hi - lo > tol {
+                covered.push((lo, hi));
+            }
+        }
+    }
+    covered.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    for (lo, hi) in covered {
+        match out.last_mut() {
+            Some(last) if lo <= last.1 + tol => last.1 = last.1.max(hi),
+            _ => out.push((lo, hi)),
+        }
+    }
+    out.into_iter()
+        .map(|(lo, hi)| {
+            let t0 = if lo <= tol { 0.0 } else { lo / len };
+            let t1 = if hi >= len - tol { 1.0 } else { hi / len };
+            (t0, t1)
+        })
+        .collect()
+}
+
 /// `true` if the interiors of two simple polygons intersect with positive
 /// area (beyond `tol`). Touching along an edge or at a point is not overlap.
 ///

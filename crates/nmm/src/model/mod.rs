@@ -18,11 +18,13 @@
 //! A valid model that is likely to mislead (nothing holds it, lengths in mm, a normal
 //! penalty far from E) gets one-line [`warnings`], never an error.
 
+mod joints;
 mod lines;
 mod reader;
 mod types;
 mod validate;
 pub mod warnings;
+pub use joints::DEFAULT_MAX_BLOCKS;
 pub use reader::MAX_COORD;
 pub use types::*;
 pub use validate::REL_TOL;

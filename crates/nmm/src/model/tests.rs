@@ -140,9 +140,12 @@ fn example_parses_with_expected_values() {
         assert!(crate::geometry::polygon::is_ccw(&b.vertices));
     }
     assert_eq!(m.interfaces.len(), 2);
-    assert_eq!(m.interfaces[0].blocks, None);
+    assert_eq!(m.interfaces[0].scope, InterfaceScope::Default);
     assert_eq!(m.interfaces[0].friction_angle, 30.0);
-    assert_eq!(m.interfaces[1].blocks, Some((0, 1)));
+    assert_eq!(
+        m.interfaces[1].scope,
+        InterfaceScope::Blocks(vec![0], vec![1])
+    );
     assert_eq!(m.interfaces[1].friction_angle, 40.5);
     assert_eq!(m.interface_for(1, 0).unwrap().friction_angle, 40.5);
     assert_eq!(m.interface_for(1, 2).unwrap().friction_angle, 30.0);
@@ -188,8 +191,8 @@ fn example_parses_with_expected_values() {
             Monitor {
                 name: "joint".into(),
                 kind: MonitorKind::Interface {
-                    first: 1,
-                    second: 0
+                    first: vec![1],
+                    second: vec![0]
                 }
             },
         ]
@@ -646,4 +649,187 @@ fn damping_in_both_forms() {
     );
     assert_eq!(parse(&sub).unwrap().materials[0].damping.alpha, 2.0);
     assert!(parse(EXAMPLE).unwrap().materials[0].damping.is_zero());
+}
+
+/// The example with `slider` and `upper` cut by a joint set and `slider` by a fault.
+fn jointed_example() -> String {
+    format!(
+        "{EXAMPLE}\n[[joint_set]]\nname = \"bedding\"\nangle = 35.0\nspacing = 0.3\norigin = [0.05, 1.02]\nblocks = [\"slider\", \"upper\"]\n\
+         [[joint]]\nname = \"fault\"\npoints = [[0.2, 0.9], [0.8, 1.6]]\nblocks = [\"slider\"]\n\
+         [[interface]]\njoint = \"bedding\"\nfriction_angle = 25.0\nnormal_penalty = 1.0e10\nshear_penalty = 1.0e7\n"
+    )
+}
+
+#[test]
+fn models_without_joints_are_unchanged_by_cutting() {
+    let m = parse(EXAMPLE).unwrap();
+    assert!(m.joints.is_empty() && m.cracks.is_empty() && m.merged.is_empty());
+    for b in &m.blocks {
+        assert_eq!(b.edge_joint, vec![None; b.vertices.len()]);
+        assert_eq!(b.parent, None);
+    }
+}
+
+#[test]
+fn cut_blocks_are_named_tagged_and_referenced() {
+    let m = parse(&jointed_example()).unwrap();
+    let names: Vec<&str> = m.blocks.iter().map(|b| b.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "base", "slider.1", "slider.2", "slider.3", "slider.4", "slider.5", "slider.6",
+            "upper.1", "upper.2", "upper.3", "upper.4"
+        ]
+    );
+    assert_eq!(m.joints.len(), 2);
+    assert_eq!(m.joints[0].name, "bedding");
+    assert!(matches!(m.joints[1].kind, JointKind::Polyline { .. }));
+    // pieces keep material and flags; areas add up; centroids ordered bottom to top
+    let area = |i: usize| crate::geometry::polygon::signed_area(&m.blocks[i].vertices);
+    let slider: f64 = (1..=6).map(area).sum();
+    let upper: f64 = (7..=10).map(area).sum();
+    assert!((slider - 0.5).abs() < 1e-12 && (upper - 0.4).abs() < 1e-12);
+    for b in &m.blocks[1..] {
+        assert!(!b.fixed && b.material == 0);
+        assert_eq!(b.edge_joint.len(), b.vertices.len());
+    }
+    assert_eq!(m.blocks[1].parent.as_deref(), Some("slider"));
+    let tags: Vec<Option<usize>> = m.blocks[1..]
+        .iter()
+        .flat_map(|b| b.edge_joint.iter().copied())
+        .collect();
+    assert!(tags.contains(&Some(0)) && tags.contains(&Some(1)) && tags.contains(&None));
+    let cy = |i: usize| {
+        let v = &m.blocks[i].vertices;
+        crate::geometry::moments::polygon_moments(v, v[0]).centroid()[1]
+    };
+    for i in 1..6 {
+        assert!(
+            cy(i) <= cy(i + 1) + 1e-9,
+            "{} above {}",
+            names[i],
+            names[i + 1]
+        );
+    }
+    // the interfaces: the pair "base"–"slider" means every piece of slider
+    assert_eq!(
+        m.interfaces[1].scope,
+        InterfaceScope::Blocks(vec![0], vec![1, 2, 3, 4, 5, 6])
+    );
+    assert_eq!(m.interfaces[2].scope, InterfaceScope::Joint(0));
+    // precedence: joint > pair > default
+    let phi = |i: Option<&Interface>| i.map(|i| i.friction_angle);
+    assert_eq!(phi(m.interface_for_face(0, 3, Some(0))), Some(25.0));
+    assert_eq!(phi(m.interface_for_face(0, 3, None)), Some(40.5));
+    assert_eq!(phi(m.interface_for_face(2, 3, Some(1))), Some(30.0));
+    assert_eq!(phi(m.interface_for_face(2, 3, None)), Some(30.0));
+    assert_eq!(phi(m.interface_for_face(8, 2, Some(0))), Some(25.0));
+    // the edge load on slider's top is split among the pieces along it, length kept
+    let length: f64 = m
+        .loads
+        .iter()
+        .map(|l| match l.kind {
+            LoadKind::Edge { a, b, traction } => {
+                assert_eq!(traction, [0.0, -1.0e6]);
+                assert!((1..=6).contains(&l.block));
+                assert!(crate::geometry::polygon::segment_on_boundary(
+                    &m.blocks[l.block].vertices,
+                    a,
+                    b,
+                    1e-9
+                ));
+                crate::geometry::dist(a, b)
+            }
+            _ => panic!("{l:?}"),
+        })
+        .sum();
+    assert!(m.loads.len() >= 2);
+    assert!((length - 1.0).abs() < 1e-12, "{length}");
+    // the edge constraint on upper's right side goes to the pieces it lies on
+    let c_len: f64 = m
+        .constraints
+        .iter()
+        .map(|c| match c.geometry {
+            ConstraintGeometry::Edge { a, b } => {
+                assert!((7..=10).contains(&c.block));
+                crate::geometry::dist(a, b)
+            }
+            _ => panic!(),
+        })
+        .sum();
+    assert!((c_len - 0.1).abs() < 1e-12);
+    // monitors: the point goes to the piece containing it, the interface to every piece
+    match &m.monitors[0].kind {
+        MonitorKind::Point { p, block } => {
+            assert!((7..=10).contains(block));
+            assert_ne!(
+                crate::geometry::polygon::point_in_polygon(&m.blocks[*block].vertices, *p, 1e-9),
+                crate::geometry::polygon::Location::Outside
+            );
+        }
+        k => panic!("{k:?}"),
+    }
+    assert_eq!(
+        m.monitors[1].kind,
+        MonitorKind::Interface {
+            first: vec![1, 2, 3, 4, 5, 6],
+            second: vec![0]
+        }
+    );
+}
+
+#[test]
+fn a_cut_block_named_twice_means_the_pairs_of_its_pieces() {
+    let text = format!(
+        "{}\n[[interface]]\nblocks = [\"slider\", \"slider\"]\nfriction_angle = 20.0\nnormal_penalty = 1.0e10\nshear_penalty = 1.0e7\n",
+        jointed_example()
+    );
+    let m = parse(&text).unwrap();
+    let i = m.interface_for(1, 4).unwrap();
+    assert_eq!(i.friction_angle, 20.0);
+    assert_eq!(m.interface_for(7, 8).unwrap().friction_angle, 30.0);
+    // an uncut block cannot pair with itself
+    let e = err_plus("[[interface]]\nblocks = [\"base\", \"base\"]\nfriction_angle = 20.0\nnormal_penalty = 1.0\nshear_penalty = 1.0\n");
+    assert!(e.contains("must differ"), "{e}");
+}
+
+#[test]
+fn cracks_and_small_pieces_are_reported() {
+    // a trace ending inside `upper` is a crack; min_block_area merges small pieces
+    let text = jointed_example().replacen(
+        "[[interface]]\njoint",
+        "[[joint]]\nname = \"crack\"\npoints = [[1.0, 1.25], [1.6, 1.25]]\nblocks = [\"upper\"]\n[[interface]]\njoint",
+        1,
+    );
+    let m = parse(&text).unwrap();
+    assert!(!m.cracks.is_empty());
+    let k = m.cracks.iter().find(|k| k.joint == 2).unwrap();
+    assert!(m.blocks[k.block].name.starts_with("upper."));
+    let x_end = k.points.iter().map(|p| p[0]).fold(f64::NAN, f64::max);
+    assert_eq!(x_end, 1.6, "{:?}", k.points);
+    let small = m
+        .blocks
+        .iter()
+        .map(|b| crate::geometry::polygon::signed_area(&b.vertices))
+        .fold(f64::INFINITY, f64::min);
+    assert!(small < 0.01, "{small}");
+    let merged =
+        parse(&text.replacen("size = 0.05", "size = 0.05\nmin_block_area = 0.01", 1)).unwrap();
+    assert!(!merged.merged.is_empty());
+    assert_eq!(merged.min_block_area, Some(0.01));
+    for b in &merged.blocks[1..] {
+        assert!(
+            crate::geometry::polygon::signed_area(&b.vertices) >= 0.01,
+            "{}",
+            b.name
+        );
+    }
+    assert!(merged.blocks.len() < m.blocks.len());
+    let total = |m: &Model| -> f64 {
+        m.blocks
+            .iter()
+            .map(|b| crate::geometry::polygon::signed_area(&b.vertices))
+            .sum()
+    };
+    assert!((total(&merged) - total(&m)).abs() < 1e-12);
 }

@@ -101,18 +101,98 @@ impl Rayleigh {
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Block {
+    /// The `[[block]]` name, or `NAME.k` for the k-th piece of a block cut by joints.
     pub name: String,
     /// Index into `Model::materials`.
     pub material: usize,
     /// Simple polygon, counter-clockwise (re-oriented if given clockwise).
     pub vertices: Vec<Vec2>,
     pub fixed: bool,
+    /// Per polygon edge (edge i joins vertex i to vertex i+1 mod n): the joint (index into
+    /// `Model::joints`) whose trace made this face, `None` for a face of the block as drawn.
+    pub edge_joint: Vec<Option<usize>>,
+    /// For a piece of a cut block: the name of the `[[block]]` it was cut from.
+    pub parent: Option<String>,
+}
+
+/// A `[[joint_set]]` or a `[[joint]]`, after validation. Its index in `Model::joints`
+/// (the sets in file order, then the joints in file order) is its id in
+/// `Block::edge_joint`, cracks and outputs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Joint {
+    pub name: String,
+    pub kind: JointKind,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum JointKind {
+    /// Parallel traces: lines at `angle` (degrees from +x, counter-clockwise, in [0, 180)),
+    /// `spacing` apart (normal distance), one through `origin`.
+    Set {
+        angle: f64,
+        spacing: f64,
+        origin: Vec2,
+        /// Non-persistent traces: `(trace_length, bridge)` along each line, the first
+        /// trace starting at the foot of `origin` on the line.
+        pattern: Option<(f64, f64)>,
+    },
+    /// One mapped joint: a polyline.
+    Polyline { points: Vec<Vec2> },
+}
+
+/// A part of one trace that ends inside a block (it does not split it). Kept as data:
+/// the analysis does not model cracks yet.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Crack {
+    /// Index into `Model::blocks`.
+    pub block: usize,
+    /// Index into `Model::joints`.
+    pub joint: usize,
+    /// The crack as a polyline (at least two points).
+    pub points: Vec<Vec2>,
+}
+
+/// A piece smaller than `[cover] min_block_area` that was merged into a neighbour, or a
+/// region enclosed by a loop of traces that reaches no block boundary (kept as part of
+/// the block around it; its loop is a crack).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MergedPiece {
+    /// The block (index into `Model::blocks`) it is now part of.
+    pub block: usize,
+    pub area: f64,
+    pub centroid: Vec2,
+}
+
+/// Which contacts an interface applies to.
+#[derive(Debug, Clone, PartialEq)]
+pub enum InterfaceScope {
+    /// Every pair of blocks without its own interface (no `blocks`, no `joint`).
+    Default,
+    /// `blocks = ["a", "b"]`: every pair of distinct blocks (x, y), x in the first set and
+    /// y in the second (either order). A set holds one block, or all pieces of a cut
+    /// block. Sorted indices into `Model::blocks`.
+    Blocks(Vec<usize>, Vec<usize>),
+    /// `joint = "name"`: faces made by this joint (index into `Model::joints`).
+    Joint(usize),
+}
+
+impl InterfaceScope {
+    /// Whether the scope is a block pair covering blocks `a` and `b` (a ≠ b).
+    pub fn covers_pair(&self, a: usize, b: usize) -> bool {
+        match self {
+            InterfaceScope::Blocks(x, y) => {
+                a != b
+                    && ((x.binary_search(&a).is_ok() && y.binary_search(&b).is_ok())
+                        || (x.binary_search(&b).is_ok() && y.binary_search(&a).is_ok()))
+            }
+            _ => false,
+        }
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Interface {
-    /// `None`: the default for every pair without its own interface. Indices into `Model::blocks`.
-    pub blocks: Option<(usize, usize)>,
+    pub scope: InterfaceScope,
     pub friction_angle: f64,
     pub cohesion: f64,
     pub normal_penalty: f64,
@@ -216,8 +296,12 @@ impl BaseMotion {
 pub enum MonitorKind {
     /// A material point, in block `block` (the first block that contains it).
     Point { p: Vec2, block: usize },
-    /// Total contact force on the first block from the second.
-    Interface { first: usize, second: usize },
+    /// Total contact force on the blocks `first` from the blocks `second` (sorted, disjoint
+    /// sets of indices: one block, or all pieces of a cut block).
+    Interface {
+        first: Vec<usize>,
+        second: Vec<usize>,
+    },
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -241,6 +325,17 @@ pub struct Model {
     pub constraints: Vec<Constraint>,
     pub base_motion: Option<BaseMotion>,
     pub monitors: Vec<Monitor>,
+    /// `[[joint_set]]` then `[[joint]]` tables, in file order.
+    pub joints: Vec<Joint>,
+    /// Traces that end inside a block (phase A: data only).
+    pub cracks: Vec<Crack>,
+    /// Pieces merged because they were smaller than `[cover] min_block_area`.
+    pub merged: Vec<MergedPiece>,
+    /// Regions enclosed by loops of traces that reach no block boundary: they stay part
+    /// of the block around them (a block cannot have a hole); their loops are cracks.
+    pub enclosed: Vec<MergedPiece>,
+    /// `[cover] min_block_area` (m²), if given.
+    pub min_block_area: Option<f64>,
 }
 
 impl Model {
@@ -248,7 +343,40 @@ impl Model {
     pub fn interface_for(&self, a: usize, b: usize) -> Option<&Interface> {
         self.interfaces
             .iter()
-            .find(|i| matches!(i.blocks, Some((x, y)) if (x == a && y == b) || (x == b && y == a)))
-            .or_else(|| self.interfaces.iter().find(|i| i.blocks.is_none()))
+            .find(|i| i.scope.covers_pair(a, b))
+            .or_else(|| {
+                self.interfaces
+                    .iter()
+                    .find(|i| i.scope == InterfaceScope::Default)
+            })
+    }
+
+    /// The interface for a contact of a vertex of block `vertex_block` against a face of
+    /// block `edge_block` made by joint `edge_joint` (`None`: a face of the block as
+    /// drawn). Precedence: the joint's interface, else the pair's, else the default.
+    pub fn interface_for_face(
+        &self,
+        vertex_block: usize,
+        edge_block: usize,
+        edge_joint: Option<usize>,
+    ) -> Option<&Interface> {
+        edge_joint
+            .and_then(|j| {
+                self.interfaces
+                    .iter()
+                    .find(|i| i.scope == InterfaceScope::Joint(j))
+            })
+            .or_else(|| self.interface_for(vertex_block, edge_block))
+    }
+
+    /// Whether some interface can apply to contacts between blocks `a` and `b`.
+    pub fn may_contact(&self, a: usize, b: usize) -> bool {
+        self.interface_for(a, b).is_some()
+            || (self
+                .interfaces
+                .iter()
+                .any(|i| matches!(i.scope, InterfaceScope::Joint(_)))
+                && (self.blocks[a].edge_joint.iter().any(Option::is_some)
+                    || self.blocks[b].edge_joint.iter().any(Option::is_some)))
     }
 }

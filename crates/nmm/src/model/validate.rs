@@ -10,6 +10,7 @@
 
 // `!(x > tol)` is deliberate throughout: a NaN fails the test.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+use super::joints;
 use super::lines::Doc;
 use super::reader::{
     array, array_of_tables, boolean, describe, error, fmt_num, fmt_point, integer, number, pair,
@@ -17,8 +18,8 @@ use super::reader::{
 };
 use super::*;
 use crate::geometry::polygon::{
-    degeneracy, orient_ccw, point_in_polygon, polygons_overlap, segment_on_boundary,
-    self_intersection, Degeneracy, Location,
+    degeneracy, orient_ccw, point_in_polygon, polygons_overlap, segment_boundary_intervals,
+    segment_on_boundary, self_intersection, Degeneracy, Location,
 };
 use crate::geometry::{Aabb, Vec2};
 use std::collections::{HashMap, HashSet};
@@ -30,7 +31,7 @@ pub const REL_TOL: f64 = 1e-9;
 /// Default `[analysis] tolerance`: the Newton iteration stops when the residual is below
 /// this fraction of the physical forces (loads, weights, inertia, stresses, reactions,
 /// contact forces).
-pub const DEFAULT_TOLERANCE: f64 = 1e-8;
+pub const DEFAULT_TOLERANCE: f64 = 1e-9;
 
 const TOP_KEYS: &[&str] = &[
     "analysis",
@@ -42,7 +43,45 @@ const TOP_KEYS: &[&str] = &[
     "constraint",
     "base_motion",
     "monitor",
+    "joint_set",
+    "joint",
 ];
+
+/// What the names of blocks in the model file stand for after cutting.
+pub(crate) struct Names {
+    /// name → (blocks it means: one block, or every piece of a cut block; the polygon
+    /// it names: the block as drawn for a cut block).
+    map: HashMap<String, (Vec<usize>, Vec<Vec2>)>,
+}
+
+impl Names {
+    fn new(drawn: Vec<(String, Vec<Vec2>)>, pieces_of: &[Vec<usize>], blocks: &[Block]) -> Names {
+        let mut map = HashMap::new();
+        for ((name, poly), pieces) in drawn.into_iter().zip(pieces_of) {
+            map.insert(name, (pieces.clone(), poly));
+        }
+        for (i, b) in blocks.iter().enumerate() {
+            if b.parent.is_some() {
+                map.insert(b.name.clone(), (vec![i], b.vertices.clone()));
+            }
+        }
+        Names { map }
+    }
+
+    fn get(&self, name: &str) -> Option<(&[usize], &[Vec2])> {
+        self.map
+            .get(name)
+            .map(|(s, p)| (s.as_slice(), p.as_slice()))
+    }
+}
+
+/// `[cover]`.
+struct CoverKeys {
+    size: f64,
+    origin: Option<Vec2>,
+    min_block_area: Option<f64>,
+    max_blocks: usize,
+}
 
 /// Validate the whole tree. `base_dir` resolves `[base_motion] file`.
 pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
@@ -55,25 +94,36 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
         )));
     }
     let analysis = analysis(root)?;
-    let (cover_size, cover_origin) = cover(root)?;
+    let cov = cover(root)?;
     let materials = materials(root)?;
     let mut blocks = blocks(root, &materials)?;
     let tol = model_tolerance(&blocks);
     check_polygons(root, &mut blocks, tol)?;
-    let names: HashMap<&str, usize> = blocks
+    let specs = joints::read(root, &blocks, tol)?;
+    joints::check_estimate(root, &blocks, &specs, cov.max_blocks)?;
+    let drawn: Vec<(String, Vec<Vec2>)> = blocks
         .iter()
-        .enumerate()
-        .map(|(i, b)| (b.name.as_str(), i))
+        .map(|b| (b.name.clone(), b.vertices.clone()))
         .collect();
-    let interfaces = interfaces(root, &blocks, &names)?;
+    let cutting = joints::cut(
+        root,
+        blocks,
+        &specs,
+        tol,
+        (cov.size, cov.min_block_area, cov.max_blocks),
+    )?;
+    let blocks = cutting.blocks;
+    let names = Names::new(drawn, &cutting.pieces_of, &blocks);
+    let joint_list: Vec<Joint> = specs.into_iter().map(|s| s.joint).collect();
+    let interfaces = interfaces(root, &blocks, &names, &joint_list)?;
     let loads = loads(root, &blocks, &names, tol)?;
     let constraints = constraints(root, &blocks, &names, tol)?;
     let base_motion = base_motion(root, base_dir)?;
     let monitors = monitors(root, &blocks, &names, tol)?;
     Ok(Model {
         analysis,
-        cover_size,
-        cover_origin,
+        cover_size: cov.size,
+        cover_origin: cov.origin,
         materials,
         blocks,
         interfaces,
@@ -81,6 +131,11 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
         constraints,
         base_motion,
         monitors,
+        joints: joint_list,
+        cracks: cutting.cracks,
+        merged: cutting.merged,
+        enclosed: cutting.enclosed,
+        min_block_area: cov.min_block_area,
     })
 }
 
@@ -190,13 +245,24 @@ fn analysis(root: &Doc) -> R<Analysis> {
     })
 }
 
-fn cover(root: &Doc) -> R<(f64, Option<Vec2>)> {
+fn cover(root: &Doc) -> R<CoverKeys> {
     let t = table(root, "cover")?
         .ok_or_else(|| error("[cover]: missing table (key `size` is required)"))?;
     let f = root.fields("[cover]", t, "cover", None);
-    f.deny_unknown(&["size", "origin"])?;
+    f.deny_unknown(&["size", "origin", "min_block_area", "max_blocks"])?;
     let size = positive(&f, "size", f.req("size", number)?)?;
-    Ok((size, f.opt("origin", point)?))
+    let origin = f.opt("origin", point)?;
+    let min_block_area = match f.opt("min_block_area", number)? {
+        Some(a) => Some(positive(&f, "min_block_area", a)?),
+        None => None,
+    };
+    let max_blocks = count(&f, "max_blocks", joints::DEFAULT_MAX_BLOCKS, 1)?;
+    Ok(CoverKeys {
+        size,
+        origin,
+        min_block_area,
+        max_blocks,
+    })
 }
 
 fn materials(root: &Doc) -> R<Vec<Material>> {
@@ -350,8 +416,10 @@ fn blocks(root: &Doc, materials: &[Material]) -> R<Vec<Block>> {
         out.push(Block {
             name,
             material,
+            edge_joint: vec![None; vertices.len()],
             vertices,
             fixed,
+            parent: None,
         });
     }
     Ok(out)
@@ -424,16 +492,27 @@ fn check_polygons(root: &Doc, blocks: &mut [Block], tol: f64) -> R<()> {
     Ok(())
 }
 
-/// Resolve a block name read from `key`.
-fn block_ref(f: &Fields, key: &str, name: &str, names: &HashMap<&str, usize>) -> R<usize> {
+/// Resolve a block name read from `key`: the blocks it means and the polygon it names.
+fn block_ref<'n>(
+    f: &Fields,
+    key: &str,
+    name: &str,
+    names: &'n Names,
+) -> R<(&'n [usize], &'n [Vec2])> {
     names
         .get(name)
-        .copied()
         .ok_or_else(|| f.err(key, format!("unknown block {name:?}")))
 }
 
-/// A pair of two distinct existing block names `["a", "b"]`.
-fn block_pair(f: &Fields, key: &str, names: &HashMap<&str, usize>) -> R<(usize, usize)> {
+/// A pair of block names `["a", "b"]` as two sets of blocks. The same name twice is
+/// accepted only with `same_cut` and when it names a cut block (the pairs among its
+/// pieces); otherwise the sets must be disjoint.
+fn block_pair(
+    f: &Fields,
+    key: &str,
+    names: &Names,
+    same_cut: bool,
+) -> R<(Vec<usize>, Vec<usize>, String, String)> {
     let v = f.req(key, array)?;
     let (a, b) = match v {
         [a, b] => (
@@ -450,36 +529,68 @@ fn block_pair(f: &Fields, key: &str, names: &HashMap<&str, usize>) -> R<(usize, 
             ))
         }
     };
-    let (ia, ib) = (block_ref(f, key, a, names)?, block_ref(f, key, b, names)?);
-    if ia == ib {
+    let (sa, _) = block_ref(f, key, a, names)?;
+    let (sb, _) = block_ref(f, key, b, names)?;
+    if a == b && !(same_cut && sa.len() >= 2) {
         return Err(f.err(key, format!("the two blocks must differ, got {a:?} twice")));
     }
-    Ok((ia, ib))
+    if a != b && sa.iter().any(|x| sb.binary_search(x).is_ok()) {
+        return Err(f.err(
+            key,
+            format!("{a:?} and {b:?} share a block (the name of a cut block means all its pieces)"),
+        ));
+    }
+    Ok((sa.to_vec(), sb.to_vec(), a.to_string(), b.to_string()))
 }
 
-fn interfaces(root: &Doc, blocks: &[Block], names: &HashMap<&str, usize>) -> R<Vec<Interface>> {
-    let mut out = Vec::new();
+/// Sorted intersection of two sorted lists.
+fn common(x: &[usize], y: &[usize]) -> Vec<usize> {
+    x.iter()
+        .copied()
+        .filter(|v| y.binary_search(v).is_ok())
+        .collect()
+}
+
+/// Whether two block-pair scopes share a pair of distinct blocks.
+fn scopes_share(p: (&[usize], &[usize]), q: (&[usize], &[usize])) -> bool {
+    let share = |x1: &[usize], x2: &[usize], y1: &[usize], y2: &[usize]| {
+        let (i, j) = (common(x1, x2), common(y1, y2));
+        let only_same = i.len() == 1 && j.len() == 1 && i[0] == j[0];
+        !(i.is_empty() || j.is_empty() || only_same)
+    };
+    share(p.0, q.0, p.1, q.1) || share(p.0, q.1, p.1, q.0)
+}
+
+fn interfaces(
+    root: &Doc,
+    blocks: &[Block],
+    names: &Names,
+    joint_list: &[Joint],
+) -> R<Vec<Interface>> {
+    let mut out: Vec<Interface> = Vec::new();
     let mut default_at: Option<usize> = None;
-    let mut pairs: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut joint_at: HashMap<usize, usize> = HashMap::new();
     for (k, t) in array_of_tables(root, "interface")?.into_iter().enumerate() {
         let mut f = root.fields(format!("[[interface]] #{}", k + 1), t, "interface", Some(k));
         f.deny_unknown(&[
             "blocks",
+            "joint",
             "friction_angle",
             "cohesion",
             "normal_penalty",
             "shear_penalty",
         ])?;
-        let pair = if f.has("blocks") {
-            let (a, b) = block_pair(&f, "blocks", names)?;
-            f.set_place(format!(
-                "[[interface]] #{} (blocks {:?}, {:?})",
-                k + 1,
-                blocks[a].name,
-                blocks[b].name
-            ));
-            let key = (a.min(b), a.max(b));
-            if let Some(first) = pairs.insert(key, k) {
+        if f.has("blocks") && f.has("joint") {
+            return Err(f.err("joint", "give either `blocks` or `joint`, not both"));
+        }
+        let scope = if f.has("blocks") {
+            let (sa, sb, a, b) = block_pair(&f, "blocks", names, true)?;
+            f.set_place(format!("[[interface]] #{} (blocks {a:?}, {b:?})", k + 1));
+            let first = out.iter().position(|i| match &i.scope {
+                InterfaceScope::Blocks(x, y) => scopes_share((x, y), (&sa, &sb)),
+                _ => false,
+            });
+            if let Some(first) = first {
                 return Err(f.err(
                     "blocks",
                     format!(
@@ -488,17 +599,40 @@ fn interfaces(root: &Doc, blocks: &[Block], names: &HashMap<&str, usize>) -> R<V
                     ),
                 ));
             }
-            Some((a, b))
+            InterfaceScope::Blocks(sa, sb)
+        } else if f.has("joint") {
+            let name = f.req("joint", string)?;
+            f.set_place(format!("[[interface]] #{} (joint {name:?})", k + 1));
+            let j =
+                joint_list
+                    .iter()
+                    .position(|j| j.name == name)
+                    .ok_or_else(|| {
+                        f.err(
+                    "joint",
+                    format!("unknown joint {name:?} (no [[joint_set]] or [[joint]] has this name)"),
+                )
+                    })?;
+            if let Some(first) = joint_at.insert(j, k) {
+                return Err(f.err(
+                    "joint",
+                    format!(
+                        "this joint already has an interface ([[interface]] #{})",
+                        first + 1
+                    ),
+                ));
+            }
+            InterfaceScope::Joint(j)
         } else {
             f.set_place(format!("[[interface]] #{} (default)", k + 1));
             if let Some(first) = default_at {
                 return Err(f.fail(format!(
-                    "a second default interface (without `blocks`): [[interface]] #{} is already the default",
+                    "a second default interface (without `blocks` or `joint`): [[interface]] #{} is already the default",
                     first + 1
                 )));
             }
             default_at = Some(k);
-            None
+            InterfaceScope::Default
         };
         let friction_angle = f.req("friction_angle", number)?;
         if !(0.0..90.0).contains(&friction_angle) {
@@ -520,7 +654,7 @@ fn interfaces(root: &Doc, blocks: &[Block], names: &HashMap<&str, usize>) -> R<V
         let normal_penalty = positive(&f, "normal_penalty", f.req("normal_penalty", number)?)?;
         let shear_penalty = positive(&f, "shear_penalty", f.req("shear_penalty", number)?)?;
         out.push(Interface {
-            blocks: pair,
+            scope,
             friction_angle,
             cohesion,
             normal_penalty,
@@ -528,13 +662,24 @@ fn interfaces(root: &Doc, blocks: &[Block], names: &HashMap<&str, usize>) -> R<V
         });
     }
     if default_at.is_none() && blocks.len() >= 2 {
+        // A `joint` interface covers faces, not pairs: pieces can come to touch on faces
+        // no joint made, so every pair still needs its own interface or the default.
+        let pairs: Vec<&Interface> = out
+            .iter()
+            .filter(|i| matches!(i.scope, InterfaceScope::Blocks(..)))
+            .collect();
         for j in 0..blocks.len() {
             for i in 0..j {
-                if !pairs.contains_key(&(i, j)) {
+                if !pairs.iter().any(|p| p.scope.covers_pair(i, j)) {
                     let (a, b) = (&blocks[i].name, &blocks[j].name);
+                    let hint = if joint_at.is_empty() {
+                        String::new()
+                    } else {
+                        " (a `joint` interface applies only to the faces its joint made; pieces may touch elsewhere)".into()
+                    };
                     return Err(error(format!(
                         "[[interface]]: no interface for blocks {a:?} and {b:?}: add a default [[interface]] \
-                         (without `blocks`) or one with blocks = [{a:?}, {b:?}]"
+                         (without `blocks`) or one with blocks = [{a:?}, {b:?}]{hint}"
                     )));
                 }
             }
@@ -544,7 +689,13 @@ fn interfaces(root: &Doc, blocks: &[Block], names: &HashMap<&str, usize>) -> R<V
 }
 
 /// Check that a segment lies on the block boundary.
-fn on_boundary(f: &Fields, key: &str, block: &Block, (a, b): (Vec2, Vec2), tol: f64) -> R<()> {
+fn on_boundary(
+    f: &Fields,
+    key: &str,
+    (name, poly): (&str, &[Vec2]),
+    (a, b): (Vec2, Vec2),
+    tol: f64,
+) -> R<()> {
     if !(crate::geometry::dist(a, b) > tol) {
         return Err(f.err(
             key,
@@ -555,46 +706,106 @@ fn on_boundary(f: &Fields, key: &str, block: &Block, (a, b): (Vec2, Vec2), tol: 
             ),
         ));
     }
-    if !segment_on_boundary(&block.vertices, a, b, tol) {
+    if !segment_on_boundary(poly, a, b, tol) {
         return Err(f.err(
             key,
             format!(
                 "segment [{},{}] is not on the boundary of block {:?}",
                 fmt_point(a),
                 fmt_point(b),
-                block.name
+                name
             ),
         ));
     }
     Ok(())
 }
 
-/// Check that a point lies inside or on the block.
-fn in_block(f: &Fields, key: &str, block: &Block, p: Vec2, tol: f64) -> R<()> {
-    if point_in_polygon(&block.vertices, p, tol) == Location::Outside {
+/// A segment on the boundary of the blocks `set` (a cut block's pieces) split among the
+/// pieces whose boundary it lies along: (block, a, b) per part.
+fn split_on_pieces(
+    f: &Fields,
+    key: &str,
+    blocks: &[Block],
+    set: &[usize],
+    (a, b): (Vec2, Vec2),
+    tol: f64,
+) -> R<Vec<(usize, Vec2, Vec2)>> {
+    if let [only] = set {
+        return Ok(vec![(*only, a, b)]);
+    }
+    let at = |t: f64| {
+        if t <= 0.0 {
+            a
+        } else if t >= 1.0 {
+            b
+        } else {
+            crate::geometry::lerp(a, b, t)
+        }
+    };
+    let mut out = Vec::new();
+    let mut covered = 0.0;
+    for &i in set {
+        for (t0, t1) in segment_boundary_intervals(&blocks[i].vertices, a, b, tol) {
+            covered += t1 - t0;
+            out.push((i, at(t0), at(t1)));
+        }
+    }
+    let len = crate::geometry::dist(a, b);
+    if !((covered - 1.0).abs() * len <= tol * (1 + set.len()) as f64) {
         return Err(f.err(
             key,
-            format!("point {} is outside block {:?}", fmt_point(p), block.name),
+            format!(
+                "segment [{},{}] could not be split among the pieces of its cut block ({:.9} of its length found)",
+                fmt_point(a),
+                fmt_point(b),
+                covered
+            ),
+        ));
+    }
+    Ok(out)
+}
+
+/// The first block of `set` containing `p` (inside or on its boundary).
+fn piece_at(blocks: &[Block], set: &[usize], p: Vec2, tol: f64) -> usize {
+    set.iter()
+        .copied()
+        .find(|&i| point_in_polygon(&blocks[i].vertices, p, tol) != Location::Outside)
+        .unwrap_or(set[0])
+}
+
+/// Check that a point lies inside or on the block.
+fn in_block(f: &Fields, key: &str, (name, poly): (&str, &[Vec2]), p: Vec2, tol: f64) -> R<()> {
+    if point_in_polygon(poly, p, tol) == Location::Outside {
+        return Err(f.err(
+            key,
+            format!("point {} is outside block {:?}", fmt_point(p), name),
         ));
     }
     Ok(())
 }
 
-/// Read `block` and rename the place `[[KIND]] #k (block "name")`.
-fn owner_block(f: &mut Fields, kind: &str, k: usize, names: &HashMap<&str, usize>) -> R<usize> {
+/// Read `block` and rename the place `[[KIND]] #k (block "name")`: (name, blocks it
+/// means, polygon it names).
+fn owner_block<'n>(
+    f: &mut Fields,
+    kind: &str,
+    k: usize,
+    names: &'n Names,
+) -> R<(String, &'n [usize], &'n [Vec2])> {
     let name = f.req("block", string)?;
     f.set_place(format!("[[{kind}]] #{} (block {name:?})", k + 1));
-    block_ref(f, "block", name, names)
+    let (set, poly) = block_ref(f, "block", name, names)?;
+    Ok((name.to_string(), set, poly))
 }
 
-fn loads(root: &Doc, blocks: &[Block], names: &HashMap<&str, usize>, tol: f64) -> R<Vec<Load>> {
+fn loads(root: &Doc, blocks: &[Block], names: &Names, tol: f64) -> R<Vec<Load>> {
     let mut out = Vec::new();
     for (k, t) in array_of_tables(root, "load")?.into_iter().enumerate() {
         let mut f = root.fields(format!("[[load]] #{}", k + 1), t, "load", Some(k));
-        let bi = owner_block(&mut f, "load", k, names)?;
+        let (name, set, poly) = owner_block(&mut f, "load", k, names)?;
         f.deny_unknown(&["block", "edge", "traction", "point", "force"])?;
-        let block = &blocks[bi];
-        let kind = match (f.has("edge"), f.has("point")) {
+        let named = (name.as_str(), poly);
+        match (f.has("edge"), f.has("point")) {
             (true, true) => {
                 return Err(f.err(
                     "point",
@@ -615,9 +826,14 @@ fn loads(root: &Doc, blocks: &[Block], names: &HashMap<&str, usize>, tol: f64) -
                     ));
                 }
                 let (a, b) = f.req("edge", segment)?;
-                on_boundary(&f, "edge", block, (a, b), tol)?;
+                on_boundary(&f, "edge", named, (a, b), tol)?;
                 let traction = f.req("traction", pair)?;
-                LoadKind::Edge { a, b, traction }
+                for (block, a, b) in split_on_pieces(&f, "edge", blocks, set, (a, b), tol)? {
+                    out.push(Load {
+                        block,
+                        kind: LoadKind::Edge { a, b, traction },
+                    });
+                }
             }
             (false, true) => {
                 if f.has("traction") {
@@ -627,12 +843,14 @@ fn loads(root: &Doc, blocks: &[Block], names: &HashMap<&str, usize>, tol: f64) -
                     ));
                 }
                 let p = f.req("point", point)?;
-                in_block(&f, "point", block, p, tol)?;
+                in_block(&f, "point", named, p, tol)?;
                 let force = f.req("force", pair)?;
-                LoadKind::Point { p, force }
+                out.push(Load {
+                    block: piece_at(blocks, set, p, tol),
+                    kind: LoadKind::Point { p, force },
+                });
             }
-        };
-        out.push(Load { block: bi, kind });
+        }
     }
     Ok(out)
 }
@@ -670,12 +888,7 @@ fn time_function(v: &Value) -> Result<TimeFunction, String> {
     }
 }
 
-fn constraints(
-    root: &Doc,
-    blocks: &[Block],
-    names: &HashMap<&str, usize>,
-    tol: f64,
-) -> R<Vec<Constraint>> {
+fn constraints(root: &Doc, blocks: &[Block], names: &Names, tol: f64) -> R<Vec<Constraint>> {
     let mut out = Vec::new();
     for (k, t) in array_of_tables(root, "constraint")?.into_iter().enumerate() {
         let mut f = root.fields(
@@ -684,21 +897,27 @@ fn constraints(
             "constraint",
             Some(k),
         );
-        let bi = owner_block(&mut f, "constraint", k, names)?;
+        let (name, set, poly) = owner_block(&mut f, "constraint", k, names)?;
         f.deny_unknown(&["block", "edge", "point", "ux", "uy"])?;
-        let block = &blocks[bi];
-        let geometry = match (f.has("edge"), f.has("point")) {
+        let named = (name.as_str(), poly);
+        let parts: Vec<(usize, ConstraintGeometry)> = match (f.has("edge"), f.has("point")) {
             (true, true) => return Err(f.err("point", "give either `edge` or `point`, not both")),
             (false, false) => return Err(f.err("edge", "missing: give either `edge` or `point`")),
             (true, false) => {
                 let (a, b) = f.req("edge", segment)?;
-                on_boundary(&f, "edge", block, (a, b), tol)?;
-                ConstraintGeometry::Edge { a, b }
+                on_boundary(&f, "edge", named, (a, b), tol)?;
+                split_on_pieces(&f, "edge", blocks, set, (a, b), tol)?
+                    .into_iter()
+                    .map(|(block, a, b)| (block, ConstraintGeometry::Edge { a, b }))
+                    .collect()
             }
             (false, true) => {
                 let p = f.req("point", point)?;
-                in_block(&f, "point", block, p, tol)?;
-                ConstraintGeometry::Point { p }
+                in_block(&f, "point", named, p, tol)?;
+                vec![(
+                    piece_at(blocks, set, p, tol),
+                    ConstraintGeometry::Point { p },
+                )]
             }
         };
         let ux = f.opt("ux", time_function)?;
@@ -706,12 +925,14 @@ fn constraints(
         if ux.is_none() && uy.is_none() {
             return Err(f.err("ux", "missing: give `ux`, `uy` or both"));
         }
-        out.push(Constraint {
-            block: bi,
-            geometry,
-            ux,
-            uy,
-        });
+        for (block, geometry) in parts {
+            out.push(Constraint {
+                block,
+                geometry,
+                ux: ux.clone(),
+                uy: uy.clone(),
+            });
+        }
     }
     Ok(out)
 }
@@ -824,12 +1045,7 @@ fn check_samples(s: &[[f64; 3]]) -> Result<(), String> {
     Ok(())
 }
 
-fn monitors(
-    root: &Doc,
-    blocks: &[Block],
-    names: &HashMap<&str, usize>,
-    tol: f64,
-) -> R<Vec<Monitor>> {
+fn monitors(root: &Doc, blocks: &[Block], names: &Names, tol: f64) -> R<Vec<Monitor>> {
     let mut out: Vec<Monitor> = Vec::new();
     let mut seen: HashSet<String> = HashSet::new();
     for (k, t) in array_of_tables(root, "monitor")?.into_iter().enumerate() {
@@ -864,7 +1080,7 @@ fn monitors(
                 MonitorKind::Point { p, block }
             }
             (false, true) => {
-                let (first, second) = block_pair(&f, "interface", names)?;
+                let (first, second, _, _) = block_pair(&f, "interface", names, false)?;
                 MonitorKind::Interface { first, second }
             }
         };

@@ -22,6 +22,7 @@
 //!   contact a few cells across each block usually suffice; a single block (a continuum
 //!   analysis) is never warned about.
 
+use super::InterfaceScope;
 use super::{Interface, Model};
 use crate::geometry::moments::polygon_area;
 
@@ -126,14 +127,27 @@ pub fn cover_warnings(model: &Model, unknowns_per_block: &[usize]) -> Vec<String
 
 /// `[[interface]] #k (blocks "a", "b")` or `[[interface]] #k (default)`, as in errors.
 fn interface_place(model: &Model, k: usize, i: &Interface) -> String {
-    match i.blocks {
-        Some((a, b)) => format!(
+    let name = |set: &[usize]| {
+        set.first()
+            .map(|&b| {
+                let blk = &model.blocks[b];
+                blk.parent.clone().unwrap_or_else(|| blk.name.clone())
+            })
+            .unwrap_or_default()
+    };
+    match &i.scope {
+        InterfaceScope::Blocks(a, b) => format!(
             "[[interface]] #{} (blocks {:?}, {:?})",
             k + 1,
-            model.blocks[a].name,
-            model.blocks[b].name
+            name(a),
+            name(b)
         ),
-        None => format!("[[interface]] #{} (default)", k + 1),
+        InterfaceScope::Joint(j) => format!(
+            "[[interface]] #{} (joint {:?})",
+            k + 1,
+            model.joints[*j].name
+        ),
+        InterfaceScope::Default => format!("[[interface]] #{} (default)", k + 1),
     }
 }
 

@@ -1,5 +1,6 @@
 //! Line plots of histories: panels stacked vertically over one shared x range, written as
-//! PNG and SVG.
+//! PNG and SVG; and maps ([`plot_map`]): filled polygons and polylines in true proportions
+//! (e.g. the blocks of a model as cut by its joints).
 //!
 //! Owns the figure layout only; the caller chooses what to plot (e.g. slip history above the
 //! input acceleration, both over time).
@@ -168,6 +169,137 @@ pub fn plot_panels(
         })?;
     }
     Ok(vec![png, svg])
+}
+
+/// A filled polygon of a [`plot_map`], coloured from the palette (index modulo 10).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapPolygon {
+    pub points: Vec<(f64, f64)>,
+    pub colour: usize,
+}
+
+/// A polyline of a [`plot_map`]: palette colour (index modulo 10) and width in pixels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapLine {
+    pub points: Vec<(f64, f64)>,
+    pub colour: usize,
+    pub width: u32,
+}
+
+/// A map in true proportions (1 m in x = 1 m in y): filled polygons with black outlines,
+/// then polylines over them, into `<stem>.png` and
+/// `<stem>.svg`; the height follows from `width` and the data's aspect ratio (within
+/// the size limits). Returns the two paths.
+pub fn plot_map(
+    path_stem: &Path,
+    title: &str,
+    polygons: &[MapPolygon],
+    lines: &[MapLine],
+    width: u32,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let pts = || {
+        polygons
+            .iter()
+            .flat_map(|p| p.points.iter())
+            .chain(lines.iter().flat_map(|l| l.points.iter()))
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+    };
+    let xr = padded_range(pts().map(|p| p.0), 0.03);
+    let yr = padded_range(pts().map(|p| p.1), 0.03);
+    let (label_x, label_y, top) = (40u32, 60u32, 40u32);
+    if !(MIN_SIZE..=MAX_SIZE).contains(&width) {
+        return Err(PlotError::InvalidSize {
+            width,
+            height: 0,
+            panels: 1,
+        });
+    }
+    let plot_w = (width - label_y - 20) as f64;
+    let ratio = (yr.end - yr.start) / (xr.end - xr.start);
+    let height = ((plot_w * ratio) as u32 + label_x + top).clamp(MIN_SIZE, MAX_SIZE);
+    ensure_font()?;
+    let png = with_extension(path_stem, "png");
+    let svg = with_extension(path_stem, "svg");
+    let draw = |root: &DrawingArea<_, Shift>| -> Result<(), String> {
+        draw_map(root, title, polygons, lines, (&xr, &yr), (label_x, label_y))
+            .map_err(|e| e.to_string())
+    };
+    {
+        let root = BitMapBackend::new(&png, (width, height)).into_drawing_area();
+        draw(&root).map_err(|message| PlotError::Draw {
+            path: png.clone(),
+            message,
+        })?;
+    }
+    {
+        let root = SVGBackend::new(&svg, (width, height)).into_drawing_area();
+        draw_map(
+            &root,
+            title,
+            polygons,
+            lines,
+            (&xr, &yr),
+            (label_x, label_y),
+        )
+        .map_err(|e| PlotError::Draw {
+            path: svg.clone(),
+            message: e.to_string(),
+        })?;
+    }
+    Ok(vec![png, svg])
+}
+
+fn draw_map<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    polygons: &[MapPolygon],
+    lines: &[MapLine],
+    (xr, yr): (&Range<f64>, &Range<f64>),
+    (label_x, label_y): (u32, u32),
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    root.fill(&WHITE)?;
+    let (xs, ys) = (xr.end - xr.start, yr.end - yr.start);
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(label_x)
+        .y_label_area_size(label_y)
+        .build_cartesian_2d(xr.clone(), yr.clone())?;
+    let x_fmt = |v: &f64| tick_label(*v, xs);
+    let y_fmt = |v: &f64| tick_label(*v, ys);
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("x (m)")
+        .y_desc("y (m)")
+        .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 15))
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
+        .draw()?;
+    for p in polygons {
+        let colour = PALETTE[p.colour % PALETTE.len()];
+        chart.draw_series(std::iter::once(Polygon::new(
+            p.points.clone(),
+            colour.mix(0.35).filled(),
+        )))?;
+        let mut ring = p.points.clone();
+        if let Some(&first) = ring.first() {
+            ring.push(first);
+        }
+        chart.draw_series(std::iter::once(PathElement::new(
+            ring,
+            BLACK.stroke_width(1),
+        )))?;
+    }
+    for l in lines {
+        let colour = PALETTE[l.colour % PALETTE.len()];
+        chart.draw_series(std::iter::once(PathElement::new(
+            l.points.clone(),
+            colour.stroke_width(l.width),
+        )))?;
+    }
+    root.present()
 }
 
 /// `[min, max]` of the finite values, widened by `margin × span` on each side. Constant data

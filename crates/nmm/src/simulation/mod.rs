@@ -158,8 +158,10 @@ pub struct Simulation {
     pub(crate) monitor_points: Vec<Option<MaterialPoint>>,
     linear: LinearParts,
     solver: TangentSolver,
-    /// The inertia coefficient of the tangent the solver's factorisation was made for.
+    /// The inertia coefficient of the tangent the solver's factorisation was made for, and
+    /// the step it was made in.
     solver_cm: Option<f64>,
+    solver_step: Option<usize>,
     /// The contacts were detected on the current geometry (for the next step).
     contacts_current: bool,
     /// Increment and Δt of the last step (the predictor of the next one).
@@ -238,6 +240,7 @@ impl Simulation {
             },
             solver: TangentSolver::default(),
             solver_cm: None,
+            solver_step: None,
             contacts_current: false,
             last_du: vec![0.0; n],
             last_dt: 0.0,
@@ -396,7 +399,8 @@ impl Simulation {
         lp.p.iter_mut().for_each(|v| *v = 0.0);
         lp.c.iter_mut().for_each(|v| *v = 0.0);
         let damped = !lp.c.is_empty();
-        lp.element_mass.resize(n_el, [0.0; ELEMENT_DOFS * ELEMENT_DOFS]);
+        lp.element_mass
+            .resize(n_el, [0.0; ELEMENT_DOFS * ELEMENT_DOFS]);
         lp.element_body.resize(n_el, [0.0; 3]);
         lp.element_internal.resize(n_el, [0.0; ELEMENT_DOFS]);
         for (ei, e) in self.disc.elements.iter().enumerate() {
@@ -481,7 +485,9 @@ impl Simulation {
                     continue;
                 }
                 let fb = body[r / 2] * b[r % 2];
-                let mv: f64 = (0..ELEMENT_DOFS).map(|c| m[r * ELEMENT_DOFS + c] * ve[c]).sum();
+                let mv: f64 = (0..ELEMENT_DOFS)
+                    .map(|c| m[r * ELEMENT_DOFS + c] * ve[c])
+                    .sum();
                 let fi = lp.element_internal[ei][r];
                 f[d] += fb + cv * mv - fi;
                 // physical forces: body forces, the inertia of the motion, the stresses
@@ -501,8 +507,8 @@ impl Simulation {
             let ue: [f64; 3] = gather(&self.u, &p.dofs);
             for i in 0..3 {
                 if p.dofs[i] != NO_DOF {
-                    f[p.dofs[i]] += target * p.g[i]
-                        - (0..3).map(|j| p.k[i * 3 + j] * ue[j]).sum::<f64>();
+                    f[p.dofs[i]] +=
+                        target * p.g[i] - (0..3).map(|j| p.k[i * 3 + j] * ue[j]).sum::<f64>();
                 }
             }
         }
@@ -543,15 +549,16 @@ impl Simulation {
         let mut du = vec![0.0; n];
         let (rep, equilibrium) = if static_mode {
             let sigma0 = cm.max(self.static_regularisation());
-            // Newton with continuation in its tangent first (cheap when it works), then
-            // the continuation with inner solves (robust), then no equilibrium
+            // Newton with continuation in its tangent first, from DDA's inertia of Δt (cheap
+            // when it works), then the continuation with inner solves from at least the
+            // model's regularisation (robust), then no equilibrium
             let mut rep = self.solve(
                 &rhs,
                 0.0,
                 None,
                 Regularisation::Continuation {
-                    initial: sigma0,
-                    floor: 1e-6 * sigma0,
+                    initial: cm,
+                    floor: 1e-6 * cm,
                 },
                 1,
                 None,
@@ -705,8 +712,11 @@ impl Simulation {
             max_rejections,
             max_step,
         };
-        let invalidate =
-            self.solver_cm != Some(cm) || !matches!(regularisation, Regularisation::None { .. });
+        // a fresh factorisation at the first solve of every step, and when the inertia
+        // coefficient or the regularisation changed (see TangentSolver)
+        let invalidate = self.solver_step != Some(self.step)
+            || self.solver_cm != Some(cm)
+            || !matches!(regularisation, Regularisation::None { .. });
         let rep = self.with_system(rhs, cm, anchor, |sys, solver| {
             if invalidate {
                 // the inertia coefficient (or the regularisation) changed
@@ -715,6 +725,7 @@ impl Simulation {
             solve_piecewise(sys, solver, du, opts)
         });
         self.solver_cm = Some(cm);
+        self.solver_step = Some(self.step);
         self.timings.stages += rep.times;
         rep
     }
@@ -723,7 +734,11 @@ impl Simulation {
     /// force scale.
     fn static_merit(&mut self, rhs: &Rhs, du: &[f64]) -> (f64, f64) {
         let covers: Vec<(usize, usize)> = if std::env::var_os("NMM_DEBUG_STATIC").is_some() {
-            self.disc.covers.iter().filter_map(|c| c.dof.map(|d| (d, c.block))).collect()
+            self.disc
+                .covers
+                .iter()
+                .filter_map(|c| c.dof.map(|d| (d, c.block)))
+                .collect()
         } else {
             Vec::new()
         };
@@ -733,10 +748,18 @@ impl Simulation {
             if !covers.is_empty() {
                 let mut idx: Vec<usize> = (0..r.len()).collect();
                 idx.sort_by(|a, b| r[*b].abs().total_cmp(&r[*a].abs()));
-                let top: Vec<String> = idx.iter().take(6).map(|&i| {
-                    let b = covers.iter().find(|(d, _)| *d == i - i % 2).map(|x| x.1).unwrap_or(usize::MAX);
-                    format!("dof {i} block {b}: {:.2e}", r[i])
-                }).collect();
+                let top: Vec<String> = idx
+                    .iter()
+                    .take(6)
+                    .map(|&i| {
+                        let b = covers
+                            .iter()
+                            .find(|(d, _)| *d == i - i % 2)
+                            .map(|x| x.1)
+                            .unwrap_or(usize::MAX);
+                        format!("dof {i} block {b}: {:.2e}", r[i])
+                    })
+                    .collect();
                 eprintln!("  largest residuals: {}", top.join("; "));
             }
             (
@@ -910,7 +933,6 @@ impl Simulation {
             );
         0.01 * stiffness / (rho * h * h)
     }
-
 
     /// The first element whose triangle or polygon would change orientation under `du`.
     fn inverted_element(&self, du: &[f64]) -> Option<usize> {

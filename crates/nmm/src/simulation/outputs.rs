@@ -267,7 +267,7 @@ pub fn monitor_values(sim: &Simulation) -> Vec<f64> {
                 vals.extend_from_slice(&[u[0], u[1], v[0], v[1]]);
             }
             (MonitorKind::Interface { first, second }, _) => {
-                let f = sim.contacts.interface_force(*first, *second);
+                let f = sim.contacts.interface_force_between(first, second);
                 vals.extend_from_slice(&[f.fx, f.fy, f.fn_sum, f.count as f64]);
             }
             _ => vals.extend_from_slice(&[f64::NAN; 4]),
@@ -354,11 +354,12 @@ pub fn write_block_table(model: &Model, path: &Path) -> Result<(), RunError> {
     w.flush().map_err(|x| io(path, x))
 }
 
-/// The contacts as a VTK grid of vertices.
+/// The contacts as a VTK grid of vertices; `joint` is the id of the joint that made the
+/// edge block's face (`Model::joints` index), −1 for a face of a block as drawn.
 pub fn contacts_grid(sim: &Simulation) -> Grid {
     let mut g = Grid::default();
-    let (mut normal, mut force, mut tn, mut ts, mut state, mut pair) =
-        (vec![], vec![], vec![], vec![], vec![], vec![]);
+    let (mut normal, mut force, mut tn, mut ts, mut state, mut pair, mut joint) =
+        (vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
     for c in sim.contacts.snapshots() {
         g.cells.push(Cell::vertex(g.points.len()));
         g.points.push(c.position);
@@ -368,6 +369,7 @@ pub fn contacts_grid(sim: &Simulation) -> Grid {
         ts.push(c.shear_force);
         state.push(c.state as i32);
         pair.extend_from_slice(&[c.first as f64, c.second as f64]);
+        joint.push(c.joint.map_or(-1, |j| j as i32));
     }
     g.cell_data.push(DataArray::vector2("normal", normal));
     g.cell_data
@@ -380,6 +382,7 @@ pub fn contacts_grid(sim: &Simulation) -> Grid {
         &["vertex_block", "edge_block"],
         pair,
     ));
+    g.cell_data.push(DataArray::int32("joint", joint));
     g
 }
 

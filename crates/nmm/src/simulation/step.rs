@@ -6,8 +6,7 @@
 //! branches is L + K_c (+ σ M, the regularisation). It is applied matrix-free (L by rows,
 //! the contacts by their rank-2 blocks); it is assembled only when the tangent solver
 //! refreshes its factorisation, over the *tangent pattern*: the element pattern plus every
-//! contact coupling, grown monotonically across steps so that its symbolic analysis is
-//! redone only when a contact couples two elements for the first time.
+//! contact coupling of the step (see [`TangentPattern`]).
 
 use super::Penalty;
 use crate::contact::set::ContactSet;
@@ -45,20 +44,21 @@ impl TangentPattern {
 
     /// A pattern holding the element couplings and every contact coupling of `contacts`,
     /// bound to them (their tangent slots computed).
+    ///
+    /// The pattern is a function of the current contacts only (not of earlier steps), so
+    /// that a run resumed from a checkpoint factorises exactly the same matrices: it is
+    /// rebuilt when the contact couplings change, and its symbolic analysis is redone only
+    /// then (the factorisation keeps it while the pattern is equal).
     fn for_contacts(&mut self, contacts: &mut ContactSet) -> Arc<SparsePattern> {
+        let mut groups = contacts.dof_groups();
+        groups.sort_unstable();
+        groups.dedup();
         if let Some(p) = &self.combined {
-            if contacts.fits(p) {
+            if groups == self.contact_groups {
                 contacts.bind(p);
                 return p.clone();
             }
         }
-        let mut groups = contacts.dof_groups();
-        // keep the couplings seen before (the pattern only grows), unless they dominate
-        if self.contact_groups.len() < 4 * groups.len().max(1) {
-            groups.extend(self.contact_groups.iter().cloned());
-        }
-        groups.sort_unstable();
-        groups.dedup();
         let all = self.element_groups.iter().chain(groups.iter());
         let p = Arc::new(SparsePattern::from_groups(
             self.element.n,
@@ -78,13 +78,13 @@ fn embed(small: &SparsePattern, big: &SparsePattern) -> Vec<u32> {
     for c in 0..small.n {
         let (bs, be) = (big.col_ptr[c], big.col_ptr[c + 1]);
         let mut k = bs;
-        for s in small.col_ptr[c]..small.col_ptr[c + 1] {
-            let r = small.row_idx[s];
+        let (a, b) = (small.col_ptr[c], small.col_ptr[c + 1]);
+        for (m, &r) in map[a..b].iter_mut().zip(&small.row_idx[a..b]) {
             while big.row_idx[k] != r {
                 k += 1;
                 debug_assert!(k < be);
             }
-            map[s] = k as u32;
+            *m = k as u32;
         }
     }
     map
@@ -168,7 +168,10 @@ impl PiecewiseSystem for StepSystem<'_> {
     fn choose_branches(&mut self, x: &[f64], first: bool) -> usize {
         let c = self.contacts.choose_branches(x, first);
         if std::env::var_os("NMM_DEBUG_BRANCHES").is_some() {
-            eprintln!("branches (first {first}): {:?}, changed {c}", self.contacts.counts());
+            eprintln!(
+                "branches (first {first}): {:?}, changed {c}",
+                self.contacts.counts()
+            );
         }
         c
     }
@@ -219,6 +222,7 @@ impl PiecewiseSystem for StepSystem<'_> {
 }
 
 #[cfg(test)]
+#[allow(clippy::needless_range_loop)]
 mod tests {
     use super::*;
 

@@ -8,9 +8,7 @@
 use super::linear::SolveError;
 use super::sparse::{SparseMatrix, SparsePattern};
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, LltRef, SymbolicCholesky,
-};
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 use std::sync::Arc;
@@ -121,7 +119,10 @@ impl Cholesky {
         )
         .map_err(|_| SolveError::NotPositiveDefinite)?;
         if std::env::var_os("NMM_DEBUG_LINEAR").is_some() {
-            eprintln!("cholesky numeric: {:.2} ms", t_num.elapsed().as_secs_f64() * 1e3);
+            eprintln!(
+                "cholesky numeric: {:.2} ms",
+                t_num.elapsed().as_secs_f64() * 1e3
+            );
         }
         self.numeric_count += 1;
         self.valid = true;
@@ -145,7 +146,10 @@ impl Cholesky {
             MemStack::new(work),
         );
         if std::env::var_os("NMM_DEBUG_SOLVE").is_some() {
-            eprintln!("cholesky solve: {:.3} ms", t_s.elapsed().as_secs_f64() * 1e3);
+            eprintln!(
+                "cholesky solve: {:.3} ms",
+                t_s.elapsed().as_secs_f64() * 1e3
+            );
         }
         if b.iter().all(|v| v.is_finite()) {
             Ok(())
@@ -186,7 +190,11 @@ mod tests {
             c.solve_in_place(&mut x).unwrap();
             let mut y = vec![0.0; 200];
             a2.mul_vec(&x, &mut y);
-            let err = y.iter().zip(&b).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+            let err = y
+                .iter()
+                .zip(&b)
+                .map(|(p, q)| (p - q).abs())
+                .fold(0.0, f64::max);
             assert!(err < 1e-12, "{err}");
         }
         assert_eq!((c.symbolic_count, c.numeric_count), (1, 3));

@@ -118,7 +118,11 @@ impl Gmres {
                 }
                 let (a, bb) = (self.h[k][k], self.h[k + 1][k]);
                 let d = a.hypot(bb);
-                let (c, s) = if d == 0.0 { (1.0, 0.0) } else { (a / d, bb / d) };
+                let (c, s) = if d == 0.0 {
+                    (1.0, 0.0)
+                } else {
+                    (a / d, bb / d)
+                };
                 self.cs[k] = c;
                 self.sn[k] = s;
                 self.h[k][k] = d;
@@ -136,8 +140,8 @@ impl Gmres {
             let mut y = vec![0.0; k];
             for i in (0..k).rev() {
                 let mut s = self.g[i];
-                for j in i + 1..k {
-                    s -= self.h[i][j] * y[j];
+                for (j, yj) in y.iter().enumerate().take(k).skip(i + 1) {
+                    s -= self.h[i][j] * yj;
                 }
                 y[i] = if self.h[i][i] != 0.0 {
                     s / self.h[i][i]
@@ -200,7 +204,11 @@ mod tests {
         assert!(rep.converged, "{rep:?}");
         let mut y = vec![0.0; n];
         apply(&x, &mut y);
-        let err = y.iter().zip(&b).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+        let err = y
+            .iter()
+            .zip(&b)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max);
         assert!(err < 1e-10, "{err}");
         // restarted with a small window still converges
         let mut g = Gmres::new(3);

@@ -146,7 +146,7 @@ const ARMIJO: f64 = 1e-4;
 /// returns to that point (the watchdog).
 pub const WATCHDOG: usize = 3;
 /// Largest rise of the merit over the best point's that the watchdog keeps.
-pub const WATCHDOG_GROWTH: f64 = 1e4;
+pub const WATCHDOG_GROWTH: f64 = 1e8;
 /// Relative accuracy of the linear solves while the active set moves.
 const LOOSE: f64 = 1e-3;
 /// Whether moving active sets get loose solves (measured on the brick walls: fewer GMRES
@@ -239,7 +239,9 @@ pub fn solve_piecewise(
         // raised so that this mode moves about `max_step`, and the direction recomputed.
         let dmax = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         if std::env::var_os("NMM_DEBUG_BRANCHES").is_some() {
-            eprintln!("  direction: |rb| {rbn:.3e} |d|inf {dmax:.3e} rtol {rtol:.1e} sigma {sigma:.2e}");
+            eprintln!(
+                "  direction: |rb| {rbn:.3e} |d|inf {dmax:.3e} rtol {rtol:.1e} sigma {sigma:.2e}"
+            );
         }
         if dmax > opts.max_step && rep.iterations < opts.max_iterations {
             let base = if sigma > 0.0 { sigma } else { sigma0 };
@@ -368,6 +370,7 @@ pub fn solve_piecewise(
 }
 
 #[cfg(test)]
+#[allow(clippy::needless_range_loop)]
 mod tests {
     use super::*;
     use crate::solver::SparsePattern;
@@ -472,7 +475,11 @@ mod tests {
                 if i + 1 < self.n {
                     f -= x[i + 1];
                 }
-                let fc = if own { self.kc * (x[i] + self.gap) } else { 0.0 };
+                let fc = if own {
+                    self.kc * (x[i] + self.gap)
+                } else {
+                    0.0
+                };
                 r[i] = self.b[i] - f - fc;
                 self.scale += (self.b[i].abs() + fc.abs()).powi(2);
             }
@@ -575,8 +582,16 @@ mod tests {
             opts(Regularisation::None { fallback: 1.0 }),
         );
         assert!(rb.converged);
-        let err = xa.iter().zip(&xb).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+        let err = xa
+            .iter()
+            .zip(&xb)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max);
         assert!(err < 1e-9, "{err}");
-        assert!(ra.final_regularisation < 5.0 * 1e-6, "{}", ra.final_regularisation);
+        assert!(
+            ra.final_regularisation < 5.0 * 1e-6,
+            "{}",
+            ra.final_regularisation
+        );
     }
 }

@@ -7,8 +7,8 @@
 //!
 //! 1. GMRES on J (applied matrix-free by the system) preconditioned by the held Cholesky
 //!    factor, however old (an earlier iterate, an earlier step);
-//! 2. if it needs more iterations than a refresh would cost (measured), or does not
-//!    converge: **refresh** — the Cholesky factorisation (faer, no allocation, symbolic
+//! 2. if it does not converge in `STALE_ITERATIONS` (or the last solve needed more than
+//!    `REFRESH_AFTER`): **refresh** — the Cholesky factorisation (faer, no allocation, symbolic
 //!    analysis kept while the pattern is unchanged) of the symmetric part the system
 //!    assembles: J without the unsymmetric friction coupling of sliding contacts
 //!    (∂t_S/∂g_N), which is symmetric positive definite; if J is symmetric this is J itself
@@ -68,13 +68,19 @@ impl std::ops::AddAssign for LinearStats {
 }
 
 /// Most GMRES iterations with a held (stale) preconditioner before refreshing it.
-const STALE_ITERATIONS: usize = 40;
+const STALE_ITERATIONS: usize = 30;
+/// A solve that needed more GMRES iterations than this refreshes the factor for the next.
+const REFRESH_AFTER: usize = 15;
 /// Most GMRES iterations with a fresh preconditioner before falling back to LU.
 const FRESH_ITERATIONS: usize = 120;
 const RESTART: usize = 40;
 
-/// The tangent solver (see the module docs). Keep one per simulation: its factorisation
-/// and workspaces are reused across iterations and steps.
+/// The tangent solver (see the module docs). Keep one per simulation: its workspaces are
+/// reused across iterations and steps. Every decision it takes depends on iteration counts,
+/// never on measured times, so its results are the same on every run; the caller
+/// invalidates it at the start of every step, so that no factorisation crosses a step
+/// boundary and a run resumed at any step computes bit for bit what the uninterrupted run
+/// did.
 pub struct TangentSolver {
     chol: Cholesky,
     lu: FaerLu,
@@ -82,9 +88,6 @@ pub struct TangentSolver {
     matrix: Option<SparseMatrix>,
     /// Refresh before the next solve.
     refresh: bool,
-    /// Measured cost of a refresh and of one GMRES iteration (seconds).
-    t_factor: f64,
-    t_iteration: f64,
     pub stats: LinearStats,
 }
 
@@ -96,8 +99,6 @@ impl Default for TangentSolver {
             gmres: Gmres::new(RESTART),
             matrix: None,
             refresh: true,
-            t_factor: 0.0,
-            t_iteration: 0.0,
             stats: LinearStats::default(),
         }
     }
@@ -114,7 +115,10 @@ impl TangentSolver {
         self.chol.factor_len()
     }
 
-    fn matrix_for(&mut self, op: &mut dyn TangentOperator) -> Result<&mut SparseMatrix, SolveError> {
+    fn matrix_for(
+        &mut self,
+        op: &mut dyn TangentOperator,
+    ) -> Result<&mut SparseMatrix, SolveError> {
         let p = op.pattern();
         let fresh = match &self.matrix {
             Some(m) => !Arc::ptr_eq(&m.pattern, &p),
@@ -145,9 +149,12 @@ impl TangentSolver {
         self.stats.factorisations += 1;
         self.stats.symbolic_analyses += self.chol.symbolic_count - before;
         if std::env::var_os("NMM_DEBUG_LINEAR").is_some() {
-            eprintln!("refresh: {:.2} ms (symbolic {})", dt.as_secs_f64() * 1e3, self.chol.symbolic_count - before);
+            eprintln!(
+                "refresh: {:.2} ms (symbolic {})",
+                dt.as_secs_f64() * 1e3,
+                self.chol.symbolic_count - before
+            );
         }
-        self.t_factor = dt.as_secs_f64();
         self.refresh = false;
         r
     }
@@ -188,14 +195,12 @@ impl TangentSolver {
         }
         self.stats.solve_time += dt;
         self.stats.gmres_iterations += rep.iterations;
-        if rep.iterations > 0 {
-            self.t_iteration = dt.as_secs_f64() / rep.iterations as f64;
-        }
+
         if let Some(e) = failed {
             return Err(e);
         }
-        if rep.converged && rep.iterations as f64 * self.t_iteration > self.t_factor {
-            // cheaper to refresh next time
+        if rep.converged && rep.iterations > REFRESH_AFTER {
+            // the held factor has drifted from the tangent: refresh next time
             self.refresh = true;
         }
         Ok(rep.converged)
@@ -211,17 +216,10 @@ impl TangentSolver {
     ) -> Result<(), SolveError> {
         self.stats.solves += 1;
         let rtol = rtol.max(1e-14);
-        // 1. the held factorisation as a preconditioner, for at most about as many
-        // iterations as a refresh costs
-        if !self.refresh && self.chol.is_valid() {
-            let affordable = if self.t_iteration > 0.0 {
-                ((self.t_factor / self.t_iteration).ceil() as usize).clamp(4, STALE_ITERATIONS)
-            } else {
-                STALE_ITERATIONS
-            };
-            if self.gmres(op, rhs, x, rtol, affordable)? {
-                return Ok(());
-            }
+        // 1. the held factorisation as a preconditioner
+        if !self.refresh && self.chol.is_valid() && self.gmres(op, rhs, x, rtol, STALE_ITERATIONS)?
+        {
+            return Ok(());
         }
         // 2. refresh
         match self.refresh_cholesky(op) {

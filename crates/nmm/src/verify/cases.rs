@@ -531,6 +531,57 @@ pub fn incline(
     Ok((slip, exact, its))
 }
 
+/// One block (2.5 m × 0.5 m) cut by one persistent joint dipping θ (a `[[joint_set]]`
+/// whose only trace in the block is 0.25 m above its base), rotated like [`incline`],
+/// dynamic under gravity. The lower piece is held by an edge constraint on the block's
+/// base (it lies on that piece only); the joint's faces take `[[interface]] joint`
+/// (friction φ) while the default interface has φ = 60° > θ, so a wrong interface on
+/// the joint holds the upper piece. Returns (slip of the upper piece along the joint at
+/// the end, closed form ½ g (sin θ − cos θ tan φ) t² (0 when φ ≥ θ), Newton iterations
+/// per step).
+pub fn jointed_incline(
+    theta: f64,
+    phi: f64,
+    dt: f64,
+    steps: usize,
+) -> Result<(f64, f64, Vec<usize>), String> {
+    let rot = |pts: &[[f64; 2]]| place(pts, -theta, [0.0, 2.5]);
+    let mass = rot(&[[0.0, -0.25], [2.5, -0.25], [2.5, 0.25], [0.0, 0.25]]);
+    let base = rot(&[[0.0, -0.25], [2.5, -0.25]]);
+    let origin = rot(&[[0.0, 0.0]])[0];
+    let c = rot(&[[1.25, 0.125]])[0];
+    let text = format!(
+        "[analysis]\nmode = \"dynamic\"\ndt = {dt}\nsteps = {steps}\ngravity = [0.0, -9.81]\n[cover]\nsize = 0.125\n\
+         [[material]]\nname = \"rock\"\ndensity = 2000.0\nyoung = 1.0e9\npoisson = 0.25\n\
+         [[block]]\nname = \"mass\"\nmaterial = \"rock\"\nvertices = {}\n\
+         [[joint_set]]\nname = \"plane\"\nangle = {}\nspacing = 100.0\norigin = {}\n\
+         [[interface]]\nfriction_angle = 60.0\nnormal_penalty = 1.0e9\nshear_penalty = 1.0e9\n\
+         [[interface]]\njoint = \"plane\"\nfriction_angle = {phi}\nnormal_penalty = 1.0e9\nshear_penalty = 1.0e9\n\
+         [[constraint]]\nblock = \"mass\"\nedge = [{}, {}]\nux = 0.0\nuy = 0.0\n\
+         [[monitor]]\nname = \"c\"\npoint = {}\n",
+        poly(&mass),
+        180.0 - theta,
+        point(origin),
+        point(base[0]),
+        point(base[1]),
+        point(c)
+    );
+    let mut sim = simulate(&text)?;
+    if sim.model.blocks.len() != 2 {
+        return Err(format!(
+            "the joint cut the block into {} pieces, expected 2",
+            sim.model.blocks.len()
+        ));
+    }
+    let its = run_to_end(&mut sim)?;
+    let v = monitor_values(&sim);
+    let (s, co) = theta.to_radians().sin_cos();
+    let slip = v[0] * co - v[1] * s;
+    let t = sim.time;
+    let exact = (0.5 * 9.81 * (s - co * phi.to_radians().tan()) * t * t).max(0.0);
+    Ok((slip, exact, its))
+}
+
 /// What [`settle`] measures.
 #[derive(Debug, Clone)]
 pub struct Settled {

@@ -632,6 +632,18 @@ impl ContactSet {
         }
     }
 
+    /// The largest |b_N · v| or |b_S · v| over the contacts: how far a direction `v` moves any
+    /// contact point relative to its edge.
+    pub fn largest_relative_motion(&self, v: &[f64]) -> f64 {
+        self.contacts
+            .iter()
+            .map(|c| {
+                let (a, b) = c.rates(v);
+                a.abs().max(b.abs())
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// y += K_c v with the tangent of the chosen branches (matrix-free).
     pub fn apply_tangent(&self, v: &[f64], y: &mut [f64]) {
         for c in &self.contacts {

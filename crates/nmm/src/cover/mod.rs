@@ -18,6 +18,7 @@ pub mod basis;
 mod build;
 mod locate;
 pub mod mesh;
+pub mod stabilise;
 
 pub use build::{
     discretise, discretise_on_mesh, discretise_through, DiscretiseError, MAX_MESH_NODES,

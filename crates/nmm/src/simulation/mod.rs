@@ -59,6 +59,38 @@ pub(crate) struct Penalty {
     pub function: usize,
 }
 
+/// A ghost tie of a tiny cover to the linear extrapolation of a neighbouring element
+/// ([`crate::cover::stabilise`]): energy ½ Uᵀ k U over its 8 unknowns (the cover's and its
+/// three roots' u_x, u_y).
+#[derive(Debug, Clone)]
+pub(crate) struct Ghost {
+    pub dofs: [usize; 8],
+    pub k: [f64; 64],
+}
+
+impl Ghost {
+    fn new(disc: &Discretisation, tie: &crate::cover::stabilise::GhostTie, stiffness: f64) -> Ghost {
+        let covers = [tie.cover, tie.roots[0], tie.roots[1], tie.roots[2]];
+        let a = [1.0, -tie.lambda[0], -tie.lambda[1], -tie.lambda[2]];
+        let mut dofs = [NO_DOF; 8];
+        let mut k = [0.0; 64];
+        for (i, &c) in covers.iter().enumerate() {
+            if let Some(d) = disc.covers[c].dof {
+                dofs[2 * i] = d;
+                dofs[2 * i + 1] = d + 1;
+            }
+        }
+        for i in 0..4 {
+            for j in 0..4 {
+                for comp in 0..2 {
+                    k[(2 * i + comp) * 8 + 2 * j + comp] = stiffness * a[i] * a[j];
+                }
+            }
+        }
+        Ghost { dofs, k }
+    }
+}
+
 /// Why a step could not be completed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum StepError {
@@ -115,6 +147,7 @@ struct LinearParts {
     /// Slots of each element's ELEMENT_DOFS² entries (row-major), `u32::MAX` for missing dofs.
     element_slots: Vec<[u32; ELEMENT_DOFS * ELEMENT_DOFS]>,
     penalty_slots: Vec<[u32; 9]>,
+    ghost_slots: Vec<[u32; 64]>,
     /// Stiffness, mass and penalty values of the current step.
     k: Vec<f64>,
     m: Vec<f64>,
@@ -153,6 +186,8 @@ pub struct Simulation {
     pub(crate) d_mats: Vec<Mat3>,
     pub(crate) f_load: Vec<f64>,
     pub(crate) penalties: Vec<Penalty>,
+    /// Ghost ties of the tiny covers.
+    pub(crate) ghosts: Vec<Ghost>,
     pub(crate) functions: Vec<TimeFunction>,
     /// Material point of each point monitor (None for interface monitors).
     pub(crate) monitor_points: Vec<Option<MaterialPoint>>,
@@ -223,12 +258,14 @@ impl Simulation {
             d_mats,
             f_load: vec![0.0; n],
             penalties: Vec::new(),
+            ghosts: Vec::new(),
             functions: Vec::new(),
             monitor_points: Vec::new(),
             linear: LinearParts {
                 tangent: TangentPattern::new(empty, Vec::new()),
                 element_slots: Vec::new(),
                 penalty_slots: Vec::new(),
+                ghost_slots: Vec::new(),
                 k: Vec::new(),
                 m: Vec::new(),
                 p: Vec::new(),
@@ -254,6 +291,13 @@ impl Simulation {
         setup::loads(&mut sim)?;
         setup::constraints(&mut sim)?;
         setup::monitors(&mut sim)?;
+        sim.ghosts = crate::cover::stabilise::ghost_ties(&sim.disc)
+            .iter()
+            .map(|t| {
+                let e = sim.model.materials[sim.model.blocks[t.block].material].young;
+                Ghost::new(&sim.disc, t, crate::cover::stabilise::GHOST_STIFFNESS * e)
+            })
+            .collect();
         sim.build_element_pattern();
         Ok(sim)
     }
@@ -267,6 +311,9 @@ impl Simulation {
         }
         for p in &self.penalties {
             groups.push(p.dofs.iter().copied().filter(|&x| x != NO_DOF).collect());
+        }
+        for g in &self.ghosts {
+            groups.push(g.dofs.iter().copied().filter(|&x| x != NO_DOF).collect());
         }
         let pattern = Arc::new(crate::assembly::global::pattern(self.n_dofs(), &groups));
         let slot = |r: usize, c: usize| -> u32 {
@@ -286,6 +333,11 @@ impl Simulation {
             .penalties
             .iter()
             .map(|p| std::array::from_fn(|k| slot(p.dofs[k / 3], p.dofs[k % 3])))
+            .collect();
+        lp.ghost_slots = self
+            .ghosts
+            .iter()
+            .map(|g| std::array::from_fn(|k| slot(g.dofs[k / 8], g.dofs[k % 8])))
             .collect();
         let nnz = pattern.nnz();
         lp.k = vec![0.0; nnz];
@@ -440,6 +492,13 @@ impl Simulation {
                 }
             }
         }
+        for (g, slots) in self.ghosts.iter().zip(&lp.ghost_slots) {
+            for (idx, &s) in slots.iter().enumerate() {
+                if s != u32::MAX {
+                    lp.p[s as usize] += g.k[idx];
+                }
+            }
+        }
         lp.step = Some(self.step);
         self.timings.stages.assembly += ta.elapsed();
     }
@@ -500,6 +559,15 @@ impl Simulation {
             step::sym_mul(lp.tangent.element(), &lp.c, v_n, &mut cv_n);
             for (fi, ci) in f.iter_mut().zip(&cv_n) {
                 *fi += ci;
+            }
+        }
+        // ghost ties: their force on the displacement at the step start
+        for g in &self.ghosts {
+            let ue: [f64; 8] = gather(&self.u, &g.dofs);
+            for i in 0..8 {
+                if g.dofs[i] != NO_DOF {
+                    f[g.dofs[i]] -= (0..8).map(|j| g.k[i * 8 + j] * ue[j]).sum::<f64>();
+                }
             }
         }
         for p in &self.penalties {
@@ -704,7 +772,8 @@ impl Simulation {
             self.model.analysis.max_iterations,
             tolerance.unwrap_or(self.model.analysis.tolerance),
         );
-        let max_step = self.search_distance();
+        // the trust region: a quarter of the cover size at least (see solve_piecewise)
+        let max_step = self.search_distance().max(0.25 * self.model.cover_size);
         let opts = NewtonOptions {
             max_iterations,
             tolerance,

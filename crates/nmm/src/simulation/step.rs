@@ -219,6 +219,11 @@ impl PiecewiseSystem for StepSystem<'_> {
     fn set_regularisation(&mut self, sigma: f64) {
         self.sigma = sigma;
     }
+
+    /// The largest relative motion (normal or tangential) a direction makes at a contact.
+    fn step_size(&self, d: &[f64]) -> f64 {
+        self.contacts.largest_relative_motion(d)
+    }
 }
 
 #[cfg(test)]

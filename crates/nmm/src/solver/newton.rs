@@ -24,10 +24,11 @@
 //! * after `max_rejections` ([`NewtonOptions`]) such rejections in a row the solve
 //!   reports failure.
 //!
-//! **Trust region.** No unknown may change by more than `max_step` in one iteration (the
-//! contact search distance: the contact set does not describe longer motions). A longer
-//! Newton step comes from a mode the chosen branches leave without stiffness; σ is raised
-//! until that mode moves about `max_step` and the direction is recomputed.
+//! **Trust region.** A direction may not be longer than `max_step` as the system measures
+//! it (for the NMM step: the relative motion at any contact, against the contact search
+//! distance — the contact set does not describe longer motions). A longer Newton step
+//! comes from a mode the chosen branches leave without stiffness; σ is raised (×10 or
+//! more) and the direction recomputed.
 //!
 //! **Regularisation σ S** (S the system's mass matrix; [`Regularisation`]): none in dynamic
 //! analysis, whose inertia is part of R. In static analysis (pseudo-transient continuation,
@@ -83,6 +84,10 @@ pub trait PiecewiseSystem: TangentOperator {
     fn force_scale(&self) -> f64;
     /// Set the regularisation σ of the tangent.
     fn set_regularisation(&mut self, sigma: f64);
+    /// The size of a direction `d` for the trust region (default: its largest component).
+    fn step_size(&self, d: &[f64]) -> f64 {
+        d.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+    }
 }
 
 /// The regularisation schedule.
@@ -101,8 +106,8 @@ pub struct NewtonOptions {
     pub regularisation: Regularisation,
     /// Consecutive rejected directions before the solve gives up ([`MAX_REJECTIONS`]).
     pub max_rejections: usize,
-    /// Largest change of any unknown in one iteration (the trust region; `f64::INFINITY`
-    /// for none).
+    /// Largest size of one iteration's direction ([`PiecewiseSystem::step_size`]; the trust
+    /// region; `f64::INFINITY` for none).
     pub max_step: f64,
 }
 
@@ -233,11 +238,12 @@ pub fn solve_piecewise(
             rep.error = Some(e);
             break;
         }
-        // Trust region: no unknown moves more than `max_step` in one iteration. A longer
+        // Trust region: the direction's size (PiecewiseSystem::step_size) is at most
+        // `max_step`. A longer
         // step comes from a mode the chosen branches leave (nearly) without stiffness (a
         // block whose contacts all slide or open, held only by the regularisation); σ is
         // raised so that this mode moves about `max_step`, and the direction recomputed.
-        let dmax = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let dmax = sys.step_size(&d);
         if std::env::var_os("NMM_DEBUG_BRANCHES").is_some() {
             eprintln!(
                 "  direction: |rb| {rbn:.3e} |d|inf {dmax:.3e} rtol {rtol:.1e} sigma {sigma:.2e}"
@@ -245,7 +251,7 @@ pub fn solve_piecewise(
         }
         if dmax > opts.max_step && rep.iterations < opts.max_iterations {
             let base = if sigma > 0.0 { sigma } else { sigma0 };
-            sigma = base * (2.0 * dmax / opts.max_step).min(1e12);
+            sigma = base * (10.0 * dmax / opts.max_step).clamp(10.0, 1e12);
             rep.limited_steps += 1;
             continue;
         }

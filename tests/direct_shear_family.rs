@@ -31,7 +31,11 @@ fn return_mapping_family_converges_fast_and_slides_at_the_strength() {
                         sliding_steps += 1;
                         let e = (s.tau / strength - 1.0).abs();
                         worst = worst.max(e);
-                        assert!(e < 1e-3, "{place:?} σn {sn} φ {phi}: τ {} vs {strength}", s.tau);
+                        assert!(
+                            e < 1e-3,
+                            "{place:?} σn {sn} φ {phi}: τ {} vs {strength}",
+                            s.tau
+                        );
                     }
                 }
             }
@@ -42,8 +46,15 @@ fn return_mapping_family_converges_fast_and_slides_at_the_strength() {
             solves.iter().max().unwrap()
         );
         assert_eq!(cuts, 0, "{place:?}");
-        assert!(median(&solves) <= 3, "{place:?}: median {}", median(&solves));
-        assert!(sliding_steps > 20, "{place:?}: too few sliding steps to check");
+        assert!(
+            median(&solves) <= 3,
+            "{place:?}: median {}",
+            median(&solves)
+        );
+        assert!(
+            sliding_steps > 20,
+            "{place:?}: too few sliding steps to check"
+        );
     }
 }
 

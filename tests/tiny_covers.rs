@@ -30,6 +30,9 @@ fn tiny_cut_element_in_contact_does_not_invert() {
         .iter()
         .map(|s| s[0].abs().max(s[1].abs()).max(s[2].abs()))
         .fold(0.0, f64::max);
-    eprintln!("{} steps, {cuts} cuts, largest stress component {worst:.3e} Pa", sim.step);
+    eprintln!(
+        "{} steps, {cuts} cuts, largest stress component {worst:.3e} Pa",
+        sim.step
+    );
     assert!(worst < 1.0e7, "stress spike {worst}");
 }

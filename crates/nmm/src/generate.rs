@@ -3,9 +3,11 @@
 //! comparison with ntdda ([`brick_wall_model`]) and a jointed rock slope
 //! ([`jointed_slope_model`]).
 
+mod arch;
 mod slope;
 mod wall;
 
+pub use arch::{arch_model, arch_voussoirs, stack_model, ArchOptions, ARCH_MIN_THICKNESS_RATIO};
 pub use slope::{
     jointed_slope_model, slope_geometry, SlopeGeometry, SlopeOptions, SLOPE_DENSITY,
     SLOPE_FRICTION_ANGLE, SLOPE_PENALTY, SLOPE_POISSON, SLOPE_YOUNG,
@@ -58,7 +60,7 @@ pub fn fmt_exact(x: f64) -> String {
 }
 
 /// A polygon as a TOML array with [`fmt_g9`] coordinates.
-fn fmt_poly(p: &[Vec2]) -> String {
+pub(crate) fn fmt_poly(p: &[Vec2]) -> String {
     let v: Vec<String> = p
         .iter()
         .map(|q| format!("[{}, {}]", fmt_g9(q[0]), fmt_g9(q[1])))

@@ -53,6 +53,17 @@ pub fn out_of_plane_stress(poisson: f64, plane: Plane, s: [f64; 3]) -> f64 {
     }
 }
 
+/// Complementary energy density ½ σᵀ D⁻¹ σ of a stress (equal to the strain energy
+/// density of the strain it comes from).
+pub fn stress_energy_density(d: &Mat3, s: [f64; 3]) -> f64 {
+    // D is block diagonal: a 2×2 normal block and the shear term
+    let det = d[0][0] * d[1][1] - d[0][1] * d[1][0];
+    let ex = (d[1][1] * s[0] - d[0][1] * s[1]) / det;
+    let ey = (-d[1][0] * s[0] + d[0][0] * s[1]) / det;
+    let g = s[2] / d[2][2];
+    0.5 * (s[0] * ex + s[1] * ey + s[2] * g)
+}
+
 /// Strain energy density ½ εᵀ D ε (its gradient in ε is σ).
 pub fn energy_density(d: &Mat3, strain: [f64; 3]) -> f64 {
     let s = stress(d, strain);

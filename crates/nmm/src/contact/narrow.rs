@@ -23,7 +23,15 @@
 //!    Inside/outside is decided locally from the nearest boundary feature of
 //!    `B` (its normal, or at a vertex the sum of the two adjacent normals, the
 //!    2-D pseudo-normal), which is exact for simple polygons and needed near
-//!    reflex corners of a non-convex `B`.
+//!    reflex corners of a non-convex `B`. Exception (*face overlap*): a corner of `A`
+//!    outside `B` by less than `CORNER_SIDE` × the reach keeps a penetrating candidate
+//!    segment when an edge of `A` at the corner runs along that segment (parallel
+//!    within the fit angle) back into its extent. Two blocks whose faces meet corner to
+//!    corner (the voussoirs of an arch at its extrados and intrados) leave, once they
+//!    deform, each corner a hair outside the other block and across the other's face:
+//!    the faces overlap in a sliver between the corners, and dropping those contacts
+//!    would leave the joint without its hinge. A corner passing around a corner of `B`
+//!    (its edges leaving the segment's extent) is not in that case.
 //! 3. *Fit* (the DDA angle condition): the wedge of `A` at `P` must lie on the
 //!    outer side of the segment's line, within the angle `fit_angle`:
 //!    `u·n ≥ −sin(fit_angle)` for both unit directions `u` from `P` to its
@@ -222,6 +230,22 @@ impl Grid {
 const GRID_THRESHOLD: usize = 32;
 /// Near-tie tolerance of the entrance rule, in `n·d`.
 const TIE: f64 = 0.02;
+/// A corner of A outside B by less than this fraction of the reach may still touch a
+/// face it overlaps (rule 2).
+const CORNER_SIDE: f64 = 0.1;
+
+/// Whether an edge of A at its vertex (unit directions `u_prev`, `u_next` to the
+/// neighbours) runs along segment `j` of B, parallel within the fit angle, from the
+/// vertex's arc length `s` back into the segment's extent: the two faces overlap.
+fn edge_overlaps_face(seg: &Segments, j: usize, s: f64, u: [Vec2; 2], sin_fit: f64) -> bool {
+    let t = seg.t[j];
+    let l = seg.len[j];
+    u.iter().any(|&u| {
+        let along = dot(u, t);
+        cross(u, t).abs() <= sin_fit
+            && ((s > 0.5 * l && along < 0.0) || (s <= 0.5 * l && along > 0.0))
+    })
+}
 
 struct Candidate {
     j: usize,
@@ -262,6 +286,7 @@ fn detect(
     let seg = Segments::new(b);
     let scale_b = bbox_b.diagonal();
     let on_tol = 1e-12 * scale_b;
+    let corner_tol = CORNER_SIDE * reach;
     let grid = use_grid.then(|| Grid::new(b, &seg, &bbox_b, reach));
     let all: Vec<(u64, u32)> = if grid.is_none() {
         (0..nb as u32).map(|j| (0, j)).collect()
@@ -320,7 +345,13 @@ fn detect(
             continue;
         }
         let inside = is_inside(&seg, b, p, nearest);
-        cands.retain(|c| c.gap.abs() <= on_tol || (c.gap < 0.0) == inside);
+        // a corner a hair outside B still touches a face it overlaps: rule 2's exception
+        let overlap = is_corner && !inside && nearest.0 <= corner_tol;
+        cands.retain(|c| {
+            c.gap.abs() <= on_tol
+                || (c.gap < 0.0) == inside
+                || (overlap && edge_overlaps_face(&seg, c.j, c.s, [u_prev, u_next], sin_fit))
+        });
         let d_a = exterior_direction(u_prev, u_next);
         let best = cands.iter().min_by(|x, y| {
             let sx = dot(seg.normal(x.j), d_a);

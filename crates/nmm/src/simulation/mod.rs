@@ -69,7 +69,11 @@ pub(crate) struct Ghost {
 }
 
 impl Ghost {
-    fn new(disc: &Discretisation, tie: &crate::cover::stabilise::GhostTie, stiffness: f64) -> Ghost {
+    fn new(
+        disc: &Discretisation,
+        tie: &crate::cover::stabilise::GhostTie,
+        stiffness: f64,
+    ) -> Ghost {
         let covers = [tie.cover, tie.roots[0], tie.roots[1], tie.roots[2]];
         let a = [1.0, -tie.lambda[0], -tie.lambda[1], -tie.lambda[2]];
         let mut dofs = [NO_DOF; 8];
@@ -132,6 +136,41 @@ pub struct StepReport {
     pub linear: LinearStats,
 }
 
+/// The energy of the whole system (J per metre of thickness) after a step, and the work
+/// done on it so far.
+///
+/// total = kinetic ½ vᵀMv + elastic ½ Σ A σᵀD⁻¹σ + gravity potential (−work of gravity
+/// since the start) + contact springs ½ Σ (t_N²/p_N + t_S²/p_S) + penalty springs (ghost
+/// ties and constraints about their targets). `external_work` is the work of the loads and
+/// of the base motion's inertial forces; the work of prescribed (moving) constraints is not
+/// tracked. Without external work the total can only fall (friction, the scheme's
+/// dissipation): `max_rise` = max over the steps of total − initial total.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Energy {
+    pub kinetic: f64,
+    pub elastic: f64,
+    pub gravity: f64,
+    pub contact: f64,
+    pub penalty: f64,
+    pub external_work: f64,
+    /// total at the start of the run
+    pub initial: f64,
+    /// largest total so far
+    pub max: f64,
+    /// the largest |component| seen (a scale for the rise)
+    pub scale: f64,
+}
+
+impl Energy {
+    pub fn total(&self) -> f64 {
+        self.kinetic + self.elastic + self.gravity + self.contact + self.penalty
+    }
+    /// The largest rise of the total above its start, net of the external work.
+    pub fn max_rise(&self) -> f64 {
+        self.max - self.initial
+    }
+}
+
 /// Cumulative per-stage timings of a run.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Timings {
@@ -179,6 +218,8 @@ pub struct Simulation {
     pub stress: Vec<[f64; 3]>,
     pub contacts: ContactSet,
     pub timings: Timings,
+    /// The energy balance after the last step.
+    pub energy: Energy,
     pub(crate) elem_dofs: Vec<ElementDofs>,
     /// Element areas on the initial geometry: the mass ρ A₀ of an element is conserved
     /// while its area changes with the strain.
@@ -244,6 +285,7 @@ impl Simulation {
         let empty = Arc::new(SparsePattern::from_groups(n, std::iter::empty()));
         let mut sim = Simulation {
             contacts: ContactSet::default(),
+            energy: Energy::default(),
             step: 0,
             time: 0.0,
             u: vec![0.0; n],
@@ -291,13 +333,17 @@ impl Simulation {
         setup::loads(&mut sim)?;
         setup::constraints(&mut sim)?;
         setup::monitors(&mut sim)?;
-        sim.ghosts = crate::cover::stabilise::ghost_ties(&sim.disc)
-            .iter()
-            .map(|t| {
-                let e = sim.model.materials[sim.model.blocks[t.block].material].young;
-                Ghost::new(&sim.disc, t, crate::cover::stabilise::GHOST_STIFFNESS * e)
-            })
-            .collect();
+        sim.ghosts = (if std::env::var_os("NMM_NO_GHOSTS").is_some() {
+            vec![]
+        } else {
+            crate::cover::stabilise::ghost_ties(&sim.disc)
+        })
+        .iter()
+        .map(|t| {
+            let e = sim.model.materials[sim.model.blocks[t.block].material].young;
+            Ghost::new(&sim.disc, t, crate::cover::stabilise::GHOST_STIFFNESS * e)
+        })
+        .collect();
         sim.build_element_pattern();
         Ok(sim)
     }
@@ -1101,8 +1147,109 @@ impl Simulation {
         self.last_du.copy_from_slice(du);
         self.last_dt = dt;
         self.contacts_current = false;
+        self.update_energy(du, dt);
         self.advance_clock(dt);
         self.step += 1;
+    }
+
+    /// The energy balance after a committed step of `du` over `dt` (see [`Energy`]).
+    fn update_energy(&mut self, du: &[f64], dt: f64) {
+        let t1 = self.time + dt;
+        let lp = &self.linear;
+        let g = self.model.analysis.gravity;
+        let a_base = self
+            .model
+            .base_motion
+            .as_ref()
+            .map(|b| b.accel(t1))
+            .unwrap_or([0.0, 0.0]);
+        // work of gravity and of the base's inertial force over the step (body forces of the
+        // step's geometry), and of the loads
+        let (mut w_grav, mut w_ext) = (0.0, 0.0);
+        for (ei, dofs) in self.elem_dofs.iter().enumerate() {
+            let body = &lp.element_body[ei];
+            for r in 0..ELEMENT_DOFS {
+                if dofs[r] != NO_DOF {
+                    let x = du[dofs[r]] * body[r / 2];
+                    w_grav += x * g[r % 2];
+                    w_ext -= x * a_base[r % 2];
+                }
+            }
+        }
+        w_ext += self.f_load.iter().zip(du).map(|(f, d)| f * d).sum::<f64>();
+        let mut mv = vec![0.0; self.v.len()];
+        step::sym_mul(lp.tangent.element(), &lp.m, &self.v, &mut mv);
+        let kinetic = 0.5 * mv.iter().zip(&self.v).map(|(a, b)| a * b).sum::<f64>();
+        let elastic: f64 = self
+            .disc
+            .elements
+            .iter()
+            .zip(&self.stress)
+            .map(|(e, s)| {
+                let mat = self.model.blocks[e.block].material;
+                crate::geometry::moments::polygon_area(&e.polygon)
+                    * crate::material::stress_energy_density(&self.d_mats[mat], *s)
+            })
+            .sum();
+        let t_now = t1;
+        let mut penalty = 0.0;
+        for p in &self.penalties {
+            let target = self.functions[p.function].eval(t_now);
+            let ue: [f64; 3] = gather(&self.u, &p.dofs);
+            let mut e = 0.0;
+            for i in 0..3 {
+                for j in 0..3 {
+                    e += 0.5 * p.k[i * 3 + j] * (ue[i] * ue[j] + target * target);
+                }
+                e -= target * p.g[i] * ue[i];
+            }
+            penalty += e;
+        }
+        for gh in &self.ghosts {
+            let ue: [f64; 8] = gather(&self.u, &gh.dofs);
+            for i in 0..8 {
+                for j in 0..8 {
+                    penalty += 0.5 * gh.k[i * 8 + j] * ue[i] * ue[j];
+                }
+            }
+        }
+        let first = self.step == 0;
+        let e = &mut self.energy;
+        e.gravity -= w_grav;
+        e.external_work += w_ext;
+        e.kinetic = kinetic;
+        e.elastic = elastic;
+        e.contact = self.contacts.spring_energy();
+        e.penalty = penalty;
+        if first {
+            // the state before the first step: at rest, unstressed, no springs stretched
+            e.initial = 0.0;
+            e.max = 0.0;
+        }
+        let net = e.total() - e.external_work;
+        e.max = e.max.max(net);
+        if std::env::var_os("NMM_DEBUG_ENERGY").is_some() {
+            eprintln!(
+                "energy step {}: total {:.4e} (kinetic {:.3e} elastic {:.3e} gravity {:.3e} contact {:.3e} penalty {:.3e})",
+                self.step + 1,
+                net,
+                e.kinetic,
+                e.elastic,
+                e.gravity,
+                e.contact,
+                e.penalty
+            );
+        }
+        for c in [
+            e.kinetic,
+            e.elastic,
+            e.gravity,
+            e.contact,
+            e.penalty,
+            e.external_work,
+        ] {
+            e.scale = e.scale.max(c.abs());
+        }
     }
 
     /// The clock after a committed step of `dt`: a step that covered the rest of its

@@ -491,6 +491,19 @@ pub fn run_simulation(
         progress.warning(w);
     }
     let result = step_to_end(sim, out, opts, progress, &mut summary);
+    let e = sim.energy;
+    summary.energy = Some(json!({
+        "kinetic": e.kinetic,
+        "elastic": e.elastic,
+        "gravity_potential": e.gravity,
+        "contact_springs": e.contact,
+        "penalty_springs": e.penalty,
+        "total": e.total(),
+        "external_work": e.external_work,
+        "initial_total": e.initial,
+        "max_rise": e.max_rise(),
+        "max_rise_relative": if e.scale > 0.0 { e.max_rise() / e.scale } else { 0.0 },
+    }));
     summary.steps = sim.step;
     summary.time = sim.time;
     summary.timings = sim.timings;

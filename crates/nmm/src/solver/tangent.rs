@@ -217,7 +217,9 @@ impl TangentSolver {
         self.stats.solves += 1;
         let rtol = rtol.max(1e-14);
         // 1. the held factorisation as a preconditioner
-        if !self.refresh && self.chol.is_valid() && self.gmres(op, rhs, x, rtol, STALE_ITERATIONS)?
+        if !self.refresh
+            && self.chol.is_valid()
+            && self.gmres(op, rhs, x, rtol, STALE_ITERATIONS)?
         {
             return Ok(());
         }

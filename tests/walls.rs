@@ -17,6 +17,8 @@ use nmm::verify::cases::{median, model};
 
 struct WallRun {
     solves: Vec<usize>,
+    /// Residual norms of every step's accepted Newton iterates.
+    residuals: Vec<Vec<f64>>,
     cuts: usize,
     base_reaction: f64,
     weight: f64,
@@ -28,13 +30,14 @@ fn run_wall(n: usize, mode: Mode, dt: f64, steps: usize) -> WallRun {
     o.dt = dt;
     o.steps = steps;
     let mut sim = Simulation::new(model(&brick_wall_model(&o)).unwrap()).unwrap();
-    let (mut solves, mut cuts) = (Vec::new(), 0);
+    let (mut solves, mut cuts, mut residuals) = (Vec::new(), 0, Vec::new());
     while !sim.finished() {
         let rep = sim
             .advance()
             .unwrap_or_else(|e| panic!("{n}×{n} {mode:?}: {e}"));
         solves.push(rep.solves);
         cuts += rep.cuts;
+        residuals.push(rep.residuals.clone());
     }
     // block 0 is the base: the force on every brick from the base, summed
     let base_reaction: f64 = (1..sim.model.blocks.len())
@@ -43,6 +46,7 @@ fn run_wall(n: usize, mode: Mode, dt: f64, steps: usize) -> WallRun {
     let weight = WALL_UNIT_WEIGHT * WALL_BRICK_LENGTH * WALL_BRICK_HEIGHT * (n * n) as f64;
     WallRun {
         solves,
+        residuals,
         cuts,
         base_reaction,
         weight,
@@ -61,6 +65,19 @@ fn dynamic(n: usize, max_median: usize) {
         r.cuts
     );
     assert_eq!(r.cuts, 0, "{n}×{n}");
+    // Once the active set holds, the consistent tangent makes the next iterate exact (the
+    // contact forces are piecewise affine): the last residual is round-off next to the one
+    // before it, in every step that took more than one iterate.
+    for (k, res) in r.residuals.iter().enumerate() {
+        let m = res.len();
+        if m >= 2 {
+            assert!(
+                res[m - 1] < 1e-3 * res[m - 2],
+                "{n}×{n} step {}: residuals {res:?}",
+                k + 1
+            );
+        }
+    }
     assert!(
         median(&r.solves) <= max_median,
         "{n}×{n}: median {}",

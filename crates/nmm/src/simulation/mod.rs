@@ -18,6 +18,7 @@
 //!
 //! Outputs are written by [`run`] through `outputs.rs`.
 
+pub mod memory;
 mod outputs;
 mod setup;
 
@@ -258,6 +259,8 @@ pub struct Simulation {
 impl Simulation {
     /// Discretise a validated model and prepare loads, constraints and monitors.
     pub fn new(model: Model) -> Result<Simulation, String> {
+        // refuse a model that cannot fit before any large allocation
+        memory::check_fits(&model)?;
         let t0 = Instant::now();
         let blocks: Vec<_> = model
             .blocks

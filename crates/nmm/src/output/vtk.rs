@@ -641,6 +641,17 @@ impl PvdWriter {
         self.rewrite()
     }
 
+    /// Reopens the collection at `path` with `frames` (a resumed run: the frames written
+    /// up to its checkpoint) and rewrites it.
+    pub fn with_frames(path: &Path, frames: Vec<(f64, String)>) -> io::Result<Self> {
+        let w = Self {
+            path: path.to_path_buf(),
+            frames,
+        };
+        w.rewrite()?;
+        Ok(w)
+    }
+
     /// The frames added so far.
     pub fn frames(&self) -> &[(f64, String)] {
         &self.frames

@@ -1,0 +1,121 @@
+//! `[[stage]]`: a block on a plane (φ = 40.5° above the plane's 30°) settled in a static
+//! stage, then shaken in a dynamic stage whose base-motion record starts at the stage's
+//! start. Its slip during the shaking against the Newmark (1965) rigid-block reference
+//! under the same record (within 5%, the tolerance of tests/shaken_slope.rs), and no drop
+//! at the start of the shaking: the block settles less than 1e-6 m further when the
+//! dynamic stage begins (the unsettled dynamic run drops onto its joint's springs).
+
+use nmm::model::parse_model;
+use nmm::simulation::{monitor_values, Simulation};
+use nmm::verify::cases::{slope_model, STEADY_2HZ};
+use std::path::Path;
+
+const THETA: f64 = 30.0;
+const SETTLE_STEPS: usize = 20;
+
+/// The shaken-slope model with a static settle stage before the shaking.
+fn staged_model() -> String {
+    let dt = 1e-3;
+    let shake = (STEADY_2HZ.duration / dt).round() as usize;
+    let text = slope_model(THETA, &STEADY_2HZ, "return-mapping", dt);
+    format!(
+        "{text}\n[[stage]]\nname = \"settle\"\nmode = \"static\"\ndt = 0.01\nsteps = {SETTLE_STEPS}\n\
+         [[stage]]\nname = \"shake\"\nmode = \"dynamic\"\ndt = {dt}\nsteps = {shake}\nbase_motion = true\n"
+    )
+}
+
+/// (time, slip along the plane (+ downslope), settlement into the plane) at every step,
+/// and the stage of every step.
+fn run(text: &str) -> (Vec<(f64, f64, f64)>, Vec<String>) {
+    let model = parse_model(text, Path::new(".")).unwrap();
+    let mut sim = Simulation::new(model).unwrap();
+    let (s, c) = THETA.to_radians().sin_cos();
+    let (mut h, mut stages) = (Vec::new(), Vec::new());
+    while !sim.finished() {
+        sim.advance().unwrap();
+        let v = monitor_values(&sim);
+        // the plane dips toward +x: down-slope (c, −s), outward normal (s, c)
+        h.push((sim.time, v[0] * c - v[1] * s, -(v[0] * s + v[1] * c)));
+        stages.push(sim.stage_name().unwrap_or("").to_string());
+    }
+    (h, stages)
+}
+
+#[test]
+fn settle_then_shake_matches_newmark_without_a_drop() {
+    let (h, stages) = run(&staged_model());
+    assert_eq!(h.len(), SETTLE_STEPS + 4000);
+    assert!(stages[..SETTLE_STEPS].iter().all(|s| s == "settle"));
+    assert!(stages[SETTLE_STEPS..].iter().all(|s| s == "shake"));
+    // time continues across stages, on the grid of each stage
+    assert_eq!(h[SETTLE_STEPS - 1].0, 0.2);
+    assert_eq!(h[SETTLE_STEPS].0, 0.201);
+    assert_eq!(h.last().unwrap().0, 4.2);
+    let settled = h[SETTLE_STEPS - 1];
+    // no drop: settlement in the first 0.2 s of shaking (the record is still small there)
+    let extra = h[SETTLE_STEPS..SETTLE_STEPS + 200]
+        .iter()
+        .map(|r| r.2 - settled.2)
+        .fold(0.0f64, f64::max);
+    // ... and in its first 20 steps (0.02 s, a record of at most 0.01 m/s²), against the
+    // same block shaken without settling first, which drops onto its joint at t = 0
+    let early = h[SETTLE_STEPS..SETTLE_STEPS + 20]
+        .iter()
+        .map(|r| (r.2 - settled.2).abs())
+        .fold(0.0f64, f64::max);
+    let unsettled = slope_model(THETA, &STEADY_2HZ, "return-mapping", 1e-3);
+    let (d, _) = run(&unsettled);
+    let drop = d[..20].iter().map(|r| r.2).fold(0.0f64, f64::max);
+    // the Newmark reference, its record starting at the shake stage's start
+    let t0 = settled.0;
+    let record = parse_model(&staged_model(), Path::new("."))
+        .unwrap()
+        .base_motion
+        .unwrap();
+    let accel = |t: f64| (-record.accel(t)[0], 0.0);
+    let reference =
+        nmm::verify::newmark_sliding::slide(THETA, 40.5, 9.81, 1e-3, &accel, STEADY_2HZ.duration);
+    let slip = h.last().unwrap().1 - settled.1;
+    let slip_ref = reference.last().unwrap().1;
+    eprintln!(
+        "settled at t = {t0}: settlement {:.3e} m; extra settlement in the first 0.2 s of shaking {extra:.3e} m \
+         ; in its first 20 steps {early:.3e} m (the unsettled run drops {drop:.3e} m); slip {slip:.5} m vs Newmark {slip_ref:.5} m ({:+.2}%)",
+        settled.2,
+        (slip / slip_ref - 1.0) * 100.0
+    );
+    assert!(
+        extra < 1e-6,
+        "the block settles {extra} m when shaking begins"
+    );
+    assert!(
+        early < 0.01 * drop,
+        "{early} m in the first steps of shaking vs the unsettled drop {drop} m"
+    );
+    assert!(slip_ref > 0.01, "the record makes the reference slide");
+    assert!(
+        ((slip - slip_ref) / slip_ref).abs() < 0.05,
+        "slip {slip} vs Newmark {slip_ref}"
+    );
+}
+
+#[test]
+fn without_stages_time_and_record_start_at_zero() {
+    // one stage: the base motion from t = 0 (the shaken-slope verification's setting)
+    let text = slope_model(THETA, &STEADY_2HZ, "return-mapping", 1e-3);
+    let m = parse_model(&text, Path::new(".")).unwrap();
+    assert!(m.stages.is_empty());
+    let sim = Simulation::new(m).unwrap();
+    assert_eq!(sim.stage_name(), None);
+    assert_eq!(sim.total_steps(), 4000);
+    let a = sim.base_acceleration(0.3);
+    assert_eq!(a[0], sim.model.base_motion.as_ref().unwrap().accel(0.3)[0]);
+}
+
+#[test]
+fn a_stage_without_base_motion_feels_none() {
+    let sim = Simulation::new(parse_model(&staged_model(), Path::new(".")).unwrap()).unwrap();
+    assert_eq!(sim.stage_name(), Some("settle"));
+    assert_eq!(sim.base_acceleration(0.3), [0.0, 0.0]);
+    assert_eq!(sim.total_steps(), SETTLE_STEPS + 4000);
+    assert_eq!(sim.end_time(), 4.2);
+}

@@ -289,7 +289,7 @@ fn run(
             let diff = ckpt.differences(&model);
             if !diff.is_empty() {
                 anyhow::bail!(
-                    "{}: cannot start from {}: the saved state's {} differ(s) from this model's (blocks, joints, cover, materials and the stages up to the checkpoint must match)",
+                    "{}: cannot start from {}: the model differs in {} (a branch keeps the saved run's blocks, joints, cover, materials and stages up to the checkpoint)",
                     path.display(),
                     c.display(),
                     diff.join(", ")
@@ -390,7 +390,7 @@ fn execute(
     sorted.sort_unstable();
     let median = sorted.get(sorted.len() / 2).copied().unwrap_or(0);
     eprintln!(
-        "{} steps to t = {:.6} s, {} unknowns; Newton iterations median {median}, max {}; {} step(s) cut",
+        "{} steps to t = {} s, {} unknowns; Newton iterations median {median}, max {}; {} step(s) cut",
         summary.steps,
         summary.time,
         summary.n_dofs,

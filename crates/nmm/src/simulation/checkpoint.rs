@@ -279,6 +279,17 @@ fn read_frames(r: &mut Rd) -> Res<Vec<(f64, String)>> {
 }
 
 impl Simulation {
+    /// The elements that have unknowns (those of fixed blocks never move).
+    fn moving_elements(&self) -> Vec<usize> {
+        (0..self.disc.elements.len())
+            .filter(|&i| {
+                self.elem_dofs[i]
+                    .iter()
+                    .any(|&d| d != crate::assembly::global::NO_DOF)
+            })
+            .collect()
+    }
+
     /// The simulation's state (the part of a checkpoint after its header).
     fn encode_state(&self, w: &mut W) {
         w.us(self.step);
@@ -291,12 +302,14 @@ impl Simulation {
         w.f(self.base_origin.unwrap_or(0.0));
         w.fs(&self.u);
         w.fs(&self.v);
-        w.us(self.stress.len());
-        for s in &self.stress {
+        // elements of fixed blocks (no unknowns) never move nor load
+        let moving = self.moving_elements();
+        w.us(moving.len());
+        for s in moving.iter().map(|&i| &self.stress[i]) {
             s.iter().for_each(|x| w.f(*x));
         }
-        w.us(self.disc.elements.len());
-        for e in &self.disc.elements {
+        w.us(moving.len());
+        for e in moving.iter().map(|&i| &self.disc.elements[i]) {
             e.nodes.iter().flatten().for_each(|x| w.f(*x));
             w.us(e.polygon.len());
             e.polygon.iter().flatten().for_each(|x| w.f(*x));
@@ -368,18 +381,20 @@ impl Simulation {
         };
         self.u = sized(r.fs()?, "u")?;
         self.v = sized(r.fs()?, "v")?;
-        if r.len(24)? != self.stress.len() {
+        let moving = self.moving_elements();
+        if r.len(24)? != moving.len() {
             return Err("the number of manifold elements differs".into());
         }
-        for s in self.stress.iter_mut() {
-            for x in s.iter_mut() {
+        for &i in &moving {
+            for x in self.stress[i].iter_mut() {
                 *x = r.f()?;
             }
         }
-        if r.len(48)? != self.disc.elements.len() {
+        if r.len(48)? != moving.len() {
             return Err("the number of manifold elements differs".into());
         }
-        for e in self.disc.elements.iter_mut() {
+        for &i in &moving {
+            let e = &mut self.disc.elements[i];
             for node in e.nodes.iter_mut() {
                 node[0] = r.f()?;
                 node[1] = r.f()?;

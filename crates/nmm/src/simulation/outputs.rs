@@ -683,8 +683,10 @@ fn step_to_end(
                 last_written = sim.step;
             }
         }
-        let periodic = opts.checkpoint_every > 0 && sim.step % opts.checkpoint_every == 0;
-        if stage_end || interrupted || periodic {
+        let periodic =
+            opts.checkpoint_every > 0 && (sim.step % opts.checkpoint_every == 0 || sim.finished());
+        // without stages, no checkpoint at the end unless asked for (outputs as before)
+        if (stage_end && staged) || interrupted || periodic {
             let history_len = hist.position().map_err(|e| io(&hist_path, e))?;
             let saved = SavedOutputs {
                 history_len,

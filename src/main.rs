@@ -200,6 +200,7 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
             "block_area_total": total,
             "smallest_block_area": smallest,
             "smallest_block": m.blocks[smallest_at].name,
+            "stages": m.stages.iter().map(|st| st.name.clone()).collect::<Vec<_>>(),
         });
         println!("{v}");
         return Ok(ExitCode::SUCCESS);
@@ -223,10 +224,24 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
             );
         }
     }
-    println!(
-        "analysis: {:?}, dt = {} s, {} steps, friction {:?}",
-        m.analysis.mode, m.analysis.dt, m.analysis.steps, m.analysis.friction
-    );
+    if m.stages.is_empty() {
+        println!(
+            "analysis: {:?}, dt = {} s, {} steps, friction {:?}",
+            m.analysis.mode, m.analysis.dt, m.analysis.steps, m.analysis.friction
+        );
+    }
+    for st in &m.stages {
+        let a = &st.analysis;
+        println!(
+            "stage \"{}\": {:?}, dt = {} s, {} steps, friction {:?}{}",
+            st.name,
+            a.mode,
+            a.dt,
+            a.steps,
+            a.friction,
+            if st.base_motion { ", base motion" } else { "" }
+        );
+    }
     let mut covers = vec![0usize; m.blocks.len()];
     for c in &sim.disc.covers {
         covers[c.block] += 1;

@@ -119,3 +119,92 @@ fn a_stage_without_base_motion_feels_none() {
     assert_eq!(sim.total_steps(), SETTLE_STEPS + 4000);
     assert_eq!(sim.end_time(), 4.2);
 }
+
+#[test]
+fn bad_stages_get_one_line_naming_table_key_file_and_line() {
+    let base = slope_model(THETA, &STEADY_2HZ, "return-mapping", 1e-3);
+    let err = |extra: &str| -> String {
+        let text = format!("{base}{extra}");
+        nmm::model::parse_model_named(&text, Path::new("."), "m.toml")
+            .map(|_| String::new())
+            .unwrap_or_else(|e| e.to_string())
+    };
+    let lines = base.lines().count();
+    let e = err("[[stage]]\nname = \"a\"\n[[stage]]\nname = \"a\"\n");
+    assert_eq!(
+        e,
+        format!(
+            "[[stage]] \"a\": key `name`: duplicate stage name (also [[stage]] #1) (m.toml, line {})",
+            lines + 4
+        )
+    );
+    let e = err("[[stage]]\nname = \"a\"\nsteps = 0\n");
+    assert!(
+        e.starts_with("[[stage]] \"a\": key `steps`: must be positive, got 0 (m.toml, line"),
+        "{e}"
+    );
+    let e = err("[[stage]]\nname = \"a\"\nconstraint_penalty = 1e5\n");
+    assert!(
+        e.starts_with("[[stage]] \"a\": key `constraint_penalty`: the constraint springs"),
+        "{e}"
+    );
+    let e = err("[[stage]]\nname = \"a\"\ndamping = 1\n");
+    assert!(
+        e.starts_with("[[stage]] \"a\": unknown key `damping`"),
+        "{e}"
+    );
+    let e = err("[[stage]]\nname = \"a\"\nmode = \"quasi\"\n");
+    assert!(
+        e.starts_with("[[stage]] \"a\": key `mode`: expected one of"),
+        "{e}"
+    );
+    assert!(e.lines().count() == 1);
+    // a record asked for without one
+    let no_record = base.replace(
+        "[base_motion]\n",
+        "[[monitor]]\nname = \"x\"\npoint = [1.0, 1.0]\n#",
+    );
+    let text = format!("{no_record}[[stage]]\nname = \"shake\"\nbase_motion = true\n");
+    let e = nmm::model::parse_model_named(&text, Path::new("."), "m.toml")
+        .map(|_| String::new())
+        .unwrap_or_else(|e| e.to_string());
+    assert!(
+        e.starts_with("[[stage]] \"shake\": key `base_motion`: is true but the model has no [base_motion] record (m.toml, line"),
+        "{e}"
+    );
+    // dt and steps from neither the stage nor [analysis]
+    let bare = base
+        .replace("dt = 0.001\n", "")
+        .replace("steps = 4000\n", "");
+    let text = format!("{bare}[[stage]]\nname = \"s\"\nsteps = 3\n");
+    let e = nmm::model::parse_model_named(&text, Path::new("."), "m.toml")
+        .map(|_| String::new())
+        .unwrap_or_else(|e| e.to_string());
+    assert!(
+        e.starts_with(
+            "[[stage]] \"s\": key `dt`: missing (set it here or in [analysis]) (m.toml, line"
+        ),
+        "{e}"
+    );
+    // ... but every stage may set them, and [analysis] may then leave them out
+    let text = format!("{bare}[[stage]]\nname = \"s\"\nsteps = 3\ndt = 0.01\n");
+    let m = nmm::model::parse_model_named(&text, Path::new("."), "m.toml").unwrap();
+    assert_eq!(m.stages[0].analysis.dt, 0.01);
+    assert_eq!(
+        m.stages[0].analysis.gravity,
+        [0.0, -9.81],
+        "from [analysis]"
+    );
+    assert!(
+        !m.stages[0].base_motion,
+        "the record applies only where asked"
+    );
+    // without stages [analysis] still needs them
+    let e = nmm::model::parse_model_named(&bare, Path::new("."), "m.toml")
+        .map(|_| String::new())
+        .unwrap_or_else(|e| e.to_string());
+    assert!(
+        e.starts_with("[analysis]: key `dt`: missing (required)"),
+        "{e}"
+    );
+}

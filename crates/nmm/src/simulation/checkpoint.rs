@@ -131,6 +131,9 @@ pub struct SavedOutputs {
     pub history_len: u64,
     pub blocks_frames: Vec<(f64, String)>,
     pub contacts_frames: Vec<(f64, String)>,
+    /// The frames' stage names (empty without stages).
+    pub blocks_names: Vec<String>,
+    pub contacts_names: Vec<String>,
     /// The step of the last VTK frame.
     pub last_frame: usize,
     pub iterations: Vec<usize>,
@@ -497,6 +500,10 @@ impl Simulation {
         w.u64(o.history_len);
         frames(&mut w, &o.blocks_frames);
         frames(&mut w, &o.contacts_frames);
+        for names in [&o.blocks_names, &o.contacts_names] {
+            w.us(names.len());
+            names.iter().for_each(|n| w.s(n));
+        }
         w.us(o.last_frame);
         w.uss(&o.iterations);
         w.uss(&o.solves);
@@ -614,6 +621,13 @@ impl Checkpoint {
             let history_len = r.u64()?;
             let blocks_frames = read_frames(&mut r)?;
             let contacts_frames = read_frames(&mut r)?;
+            let mut names = Vec::new();
+            for _ in 0..2 {
+                let n = r.len(8)?;
+                names.push((0..n).map(|_| r.s()).collect::<Res<Vec<_>>>()?);
+            }
+            let contacts_names = names.pop().unwrap_or_default();
+            let blocks_names = names.pop().unwrap_or_default();
             let last_frame = r.us()?;
             let iterations = r.uss()?;
             let solves = r.uss()?;
@@ -626,6 +640,8 @@ impl Checkpoint {
                 history_len,
                 blocks_frames,
                 contacts_frames,
+                blocks_names,
+                contacts_names,
                 last_frame,
                 iterations,
                 solves,

@@ -416,21 +416,21 @@ struct Frames {
 
 impl Frames {
     fn new(out: &Path) -> Result<Frames, RunError> {
-        Frames::with(out, Vec::new(), Vec::new())
+        Frames::with(out, Default::default(), Default::default())
     }
     /// The collections with the frames written so far (a resumed run).
     fn with(
         out: &Path,
-        blocks: Vec<(f64, String)>,
-        contacts: Vec<(f64, String)>,
+        blocks: (Vec<(f64, String)>, Vec<String>),
+        contacts: (Vec<(f64, String)>, Vec<String>),
     ) -> Result<Frames, RunError> {
         let dir = out.join("vtk");
         std::fs::create_dir_all(&dir).map_err(|e| io(&dir, e))?;
         let b = out.join("blocks.pvd");
         let c = out.join("contacts.pvd");
         Ok(Frames {
-            blocks: PvdWriter::with_frames(&b, blocks).map_err(|e| io(&b, e))?,
-            contacts: PvdWriter::with_frames(&c, contacts).map_err(|e| io(&c, e))?,
+            blocks: PvdWriter::with_frames(&b, blocks.0, blocks.1).map_err(|e| io(&b, e))?,
+            contacts: PvdWriter::with_frames(&c, contacts.0, contacts.1).map_err(|e| io(&c, e))?,
             dir,
         })
     }
@@ -452,8 +452,12 @@ impl Frames {
             } else {
                 &mut self.contacts
             };
-            pvd.add(sim.time, &format!("vtk/{name}"))
-                .map_err(|e| io(&path, e))?;
+            pvd.add_named(
+                sim.time,
+                &format!("vtk/{name}"),
+                sim.stage_name().unwrap_or(""),
+            )
+            .map_err(|e| io(&path, e))?;
         }
         Ok(())
     }
@@ -589,8 +593,14 @@ fn step_to_end(
             last_written = c.outputs.last_frame;
             Some(Frames::with(
                 out,
-                c.outputs.blocks_frames.clone(),
-                c.outputs.contacts_frames.clone(),
+                (
+                    c.outputs.blocks_frames.clone(),
+                    c.outputs.blocks_names.clone(),
+                ),
+                (
+                    c.outputs.contacts_frames.clone(),
+                    c.outputs.contacts_names.clone(),
+                ),
             )?)
         }
         (true, None) => {
@@ -697,6 +707,14 @@ fn step_to_end(
                 contacts_frames: frames
                     .as_ref()
                     .map(|f| f.contacts.frames().to_vec())
+                    .unwrap_or_default(),
+                blocks_names: frames
+                    .as_ref()
+                    .map(|f| f.blocks.frame_names().to_vec())
+                    .unwrap_or_default(),
+                contacts_names: frames
+                    .as_ref()
+                    .map(|f| f.contacts.frame_names().to_vec())
                     .unwrap_or_default(),
                 last_frame: last_written,
                 iterations: summary.iterations.clone(),

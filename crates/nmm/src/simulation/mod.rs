@@ -348,17 +348,13 @@ impl Simulation {
         setup::loads(&mut sim)?;
         setup::constraints(&mut sim)?;
         setup::monitors(&mut sim)?;
-        sim.ghosts = (if std::env::var_os("NMM_NO_GHOSTS").is_some() {
-            vec![]
-        } else {
-            crate::cover::stabilise::ghost_ties(&sim.disc)
-        })
-        .iter()
-        .map(|t| {
-            let e = sim.model.materials[sim.model.blocks[t.block].material].young;
-            Ghost::new(&sim.disc, t, crate::cover::stabilise::GHOST_STIFFNESS * e)
-        })
-        .collect();
+        sim.ghosts = crate::cover::stabilise::ghost_ties(&sim.disc)
+            .iter()
+            .map(|t| {
+                let e = sim.model.materials[sim.model.blocks[t.block].material].young;
+                Ghost::new(&sim.disc, t, crate::cover::stabilise::GHOST_STIFFNESS * e)
+            })
+            .collect();
         sim.build_element_pattern();
         Ok(sim)
     }
@@ -831,7 +827,7 @@ impl Simulation {
             }
         } else {
             // the first iterate: the last increment, scaled to this Δt
-            if self.last_dt > 0.0 && std::env::var_os("NMM_NO_PREDICTOR").is_none() {
+            if self.last_dt > 0.0 {
                 let s = dt / self.last_dt;
                 for (d, l) in du.iter_mut().zip(&self.last_du) {
                     *d = s * l;
@@ -943,35 +939,9 @@ impl Simulation {
     /// The true residual norm of the static problem (L = K + P) at `du` and its physical
     /// force scale.
     fn static_merit(&mut self, rhs: &Rhs, du: &[f64]) -> (f64, f64) {
-        let covers: Vec<(usize, usize)> = if std::env::var_os("NMM_DEBUG_STATIC").is_some() {
-            self.disc
-                .covers
-                .iter()
-                .filter_map(|c| c.dof.map(|d| (d, c.block)))
-                .collect()
-        } else {
-            Vec::new()
-        };
         self.with_system(rhs, 0.0, None, |sys, _| {
             let mut r = vec![0.0; du.len()];
             crate::solver::PiecewiseSystem::residual(sys, du, &mut r);
-            if !covers.is_empty() {
-                let mut idx: Vec<usize> = (0..r.len()).collect();
-                idx.sort_by(|a, b| r[*b].abs().total_cmp(&r[*a].abs()));
-                let top: Vec<String> = idx
-                    .iter()
-                    .take(6)
-                    .map(|&i| {
-                        let b = covers
-                            .iter()
-                            .find(|(d, _)| *d == i - i % 2)
-                            .map(|x| x.1)
-                            .unwrap_or(usize::MAX);
-                        format!("dof {i} block {b}: {:.2e}", r[i])
-                    })
-                    .collect();
-                eprintln!("  largest residuals: {}", top.join("; "));
-            }
             (
                 r.iter().map(|v| v * v).sum::<f64>().sqrt(),
                 crate::solver::PiecewiseSystem::force_scale(sys),
@@ -1089,12 +1059,6 @@ impl Simulation {
                 continue;
             }
             let (m, scale) = self.static_merit(rhs, du);
-            if std::env::var_os("NMM_DEBUG_STATIC").is_some() {
-                eprintln!(
-                    "static continuation: sigma {sigma:.3e} inner its {} merit {m:.3e} (scale {scale:.3e})",
-                    rep.iterations
-                );
-            }
             if m <= tolerance * scale {
                 total.converged = true;
                 total.residuals.push(m);
@@ -1318,18 +1282,6 @@ impl Simulation {
         }
         let net = e.total() - e.external_work;
         e.max = e.max.max(net);
-        if std::env::var_os("NMM_DEBUG_ENERGY").is_some() {
-            eprintln!(
-                "energy step {}: total {:.4e} (kinetic {:.3e} elastic {:.3e} gravity {:.3e} contact {:.3e} penalty {:.3e})",
-                self.step + 1,
-                net,
-                e.kinetic,
-                e.elastic,
-                e.gravity,
-                e.contact,
-                e.penalty
-            );
-        }
         for c in [
             e.kinetic,
             e.elastic,

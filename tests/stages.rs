@@ -143,9 +143,9 @@ fn bad_stages_get_one_line_naming_table_key_file_and_line() {
         e.starts_with("[[stage]] \"a\": key `steps`: must be positive, got 0 (m.toml, line"),
         "{e}"
     );
-    let e = err("[[stage]]\nname = \"a\"\nconstraint_penalty = 1e5\n");
+    let e = err("[[stage]]\nname = \"a\"\nconstraint_penalty = -1\n");
     assert!(
-        e.starts_with("[[stage]] \"a\": key `constraint_penalty`: the constraint springs"),
+        e.starts_with("[[stage]] \"a\": key `constraint_penalty`: must be positive"),
         "{e}"
     );
     let e = err("[[stage]]\nname = \"a\"\ndamping = 1\n");
@@ -207,4 +207,32 @@ fn bad_stages_get_one_line_naming_table_key_file_and_line() {
         e.starts_with("[analysis]: key `dt`: missing (required)"),
         "{e}"
     );
+}
+
+/// A stage may change `constraint_penalty` (any `[analysis]` key may be set in a stage):
+/// a block standing on a constrained bottom edge settles into it by its weight's traction
+/// × h / (factor × E); with the factor 1000 times smaller in a second static stage, the
+/// bottom sinks 1000 times further.
+#[test]
+fn a_stage_changes_the_constraint_springs() {
+    let text = "[analysis]\nmode = \"static\"\ndt = 1.0\nsteps = 1\ngravity = [0.0, -10.0]\n\
+        [cover]\nsize = 0.25\n\
+        [[material]]\nname = \"m\"\ndensity = 2000.0\nyoung = 1.0e9\npoisson = 0.0\n\
+        [[block]]\nname = \"b\"\nmaterial = \"m\"\nvertices = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]\n\
+        [[constraint]]\nblock = \"b\"\nedge = [[0.0, 0.0], [1.0, 0.0]]\nux = 0.0\nuy = 0.0\n\
+        [[monitor]]\nname = \"foot\"\npoint = [0.5, 0.0]\n\
+        [[stage]]\nname = \"stiff\"\n\
+        [[stage]]\nname = \"soft\"\nconstraint_penalty = 1.0e3\n";
+    let mut sim = Simulation::new(parse_model(text, Path::new(".")).unwrap()).unwrap();
+    let mut sink = Vec::new();
+    while !sim.finished() {
+        sim.advance().unwrap();
+        sink.push(-monitor_values(&sim)[1]);
+    }
+    // traction ρ g H = 2e4 Pa; stretch = 2e4 × 0.25 / (factor × 1e9)
+    let (stiff, soft) = (sink[0], sink[1]);
+    eprintln!("foot sinks {stiff:.3e} m (factor 1e6), then {soft:.3e} m (factor 1e3)");
+    assert!((stiff / 5e-12 - 1.0).abs() < 0.5, "{stiff}");
+    assert!((soft / 5e-9 - 1.0).abs() < 0.5, "{soft}");
+    assert!((soft / stiff / 1000.0 - 1.0).abs() < 0.1, "{}", soft / stiff);
 }

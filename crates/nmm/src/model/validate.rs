@@ -329,7 +329,10 @@ fn analysis_and_stages(root: &Doc, has_base_motion: bool) -> R<(Analysis, Vec<St
             max_iterations: k.max_iterations.or(base.max_iterations).unwrap_or(25),
             tolerance: k.tolerance.or(base.tolerance).unwrap_or(DEFAULT_TOLERANCE),
             max_step_cuts: k.max_step_cuts.or(base.max_step_cuts).unwrap_or(6),
-            constraint_penalty: base.constraint_penalty.unwrap_or(1e6),
+            constraint_penalty: k
+                .constraint_penalty
+                .or(base.constraint_penalty)
+                .unwrap_or(1e6),
         })
     };
     let mut stages: Vec<Stage> = Vec::new();
@@ -338,13 +341,7 @@ fn analysis_and_stages(root: &Doc, has_base_motion: bool) -> R<(Analysis, Vec<St
         let name = f.name("name")?;
         f.set_place(format!("[[stage]] {name:?}"));
         let mut allowed = vec!["name", "base_motion"];
-        allowed.extend(ANALYSIS_KEYS.iter().filter(|k| **k != "constraint_penalty"));
-        if f.has("constraint_penalty") {
-            return Err(f.err(
-                "constraint_penalty",
-                "the constraint springs are set up once for the whole run: set it in [analysis]",
-            ));
-        }
+        allowed.extend(ANALYSIS_KEYS);
         f.deny_unknown(&allowed)?;
         if let Some(k) = stages.iter().position(|s| s.name == name) {
             return Err(f.err(

@@ -366,6 +366,7 @@ impl Simulation {
         if let Some(s) = self.model.stages.get(stage) {
             self.model.analysis = s.analysis.clone();
         }
+        self.scale_constraint_penalties();
         self.time_origin = r.f()?;
         self.full_steps = r.u64()?;
         self.partial = r.f()?;

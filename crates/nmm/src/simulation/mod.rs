@@ -258,6 +258,10 @@ pub struct Simulation {
     /// Where the base-motion record's t = 0 is on the run's clock; `None`: no base motion
     /// in this stage.
     base_origin: Option<f64>,
+    /// The constraint springs as set up with the first stage's `constraint_penalty`
+    /// (`penalties` are these scaled to the current stage's factor: they are linear in it).
+    penalty_base: Vec<Penalty>,
+    penalty_factor: f64,
 }
 
 impl Simulation {
@@ -335,6 +339,8 @@ impl Simulation {
             full_steps: 0,
             partial: 0.0,
             stage: 0,
+            penalty_base: Vec::new(),
+            penalty_factor: 0.0,
             base_origin: match model.stages.first() {
                 Some(s) => s.base_motion.then_some(0.0),
                 None => Some(0.0),
@@ -347,6 +353,8 @@ impl Simulation {
         }
         setup::loads(&mut sim)?;
         setup::constraints(&mut sim)?;
+        sim.penalty_base = sim.penalties.clone();
+        sim.penalty_factor = sim.model.analysis.constraint_penalty;
         setup::monitors(&mut sim)?;
         sim.ghosts = crate::cover::stabilise::ghost_ties(&sim.disc)
             .iter()
@@ -515,6 +523,7 @@ impl Simulation {
         self.time_origin = self.time;
         self.full_steps = 0;
         self.partial = 0.0;
+        self.scale_constraint_penalties();
         if was_static {
             self.v.iter_mut().for_each(|x| *x = 0.0);
             self.last_du.iter_mut().for_each(|x| *x = 0.0);
@@ -522,6 +531,22 @@ impl Simulation {
         }
         // the friction law and the inertia coefficient may change with the stage
         self.contacts_current = false;
+        self.linear.step = None;
+    }
+
+    /// The constraint springs for the current stage's `constraint_penalty`: those set up
+    /// with the first stage's factor, scaled (each spring is linear in the factor).
+    fn scale_constraint_penalties(&mut self) {
+        let s = self.model.analysis.constraint_penalty / self.penalty_factor;
+        for (p, b) in self.penalties.iter_mut().zip(&self.penalty_base) {
+            if s == 1.0 {
+                p.k = b.k;
+                p.g = b.g;
+            } else {
+                p.k = b.k.map(|x| x * s);
+                p.g = b.g.map(|x| x * s);
+            }
+        }
         self.linear.step = None;
     }
 

@@ -234,5 +234,9 @@ fn a_stage_changes_the_constraint_springs() {
     eprintln!("foot sinks {stiff:.3e} m (factor 1e6), then {soft:.3e} m (factor 1e3)");
     assert!((stiff / 5e-12 - 1.0).abs() < 0.5, "{stiff}");
     assert!((soft / 5e-9 - 1.0).abs() < 0.5, "{soft}");
-    assert!((soft / stiff / 1000.0 - 1.0).abs() < 0.1, "{}", soft / stiff);
+    assert!(
+        (soft / stiff / 1000.0 - 1.0).abs() < 0.1,
+        "{}",
+        soft / stiff
+    );
 }

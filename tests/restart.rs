@@ -138,6 +138,7 @@ fn interrupted_and_resumed_runs_write_the_same_history() {
         assert_eq!(sm["steps"], full_summary["steps"]);
         assert_eq!(sm["iterations"], full_summary["iterations"]);
         assert_eq!(sm["energy"], full_summary["energy"]);
+        assert_eq!(sm["stage"], "shake");
         // the VTK collections list every frame of the uninterrupted run once, and the
         // frame written at a SIGINT
         let pvd = std::fs::read_to_string(out.join("blocks.pvd")).unwrap();

@@ -157,6 +157,8 @@ pub struct RunSummary {
     pub equilibrium: Option<Value>,
     /// The model's warnings ([`Simulation::warnings`]).
     pub warnings: Vec<String>,
+    /// With `[[stage]]`: the stage of the last step (`None` without stages).
+    pub stage: Option<String>,
     /// Peak resident memory of the process (Linux: VmHWM), `None` elsewhere.
     pub peak_memory_bytes: Option<u64>,
     pub model_path: Option<PathBuf>,
@@ -272,6 +274,7 @@ impl RunSummary {
                 })
             }),
             "warnings": self.warnings,
+            "stage": self.stage,
         })
     }
 
@@ -589,6 +592,7 @@ pub fn run_simulation(
     }));
     summary.steps = sim.step;
     summary.time = sim.time;
+    summary.stage = sim.stage_name().map(str::to_string);
     summary.timings = sim.timings;
     summary.status = match &result {
         Err(_) => RunStatus::Failed,

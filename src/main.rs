@@ -160,7 +160,8 @@ fn cutting_line(m: &nmm::model::Model) -> Option<String> {
 
 fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
     let model = nmm::model::load_model(path)?;
-    let sim = nmm::simulation::Simulation::new(model).map_err(anyhow::Error::msg)?;
+    let sim = nmm::simulation::Simulation::new(model)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     if !quiet {
         for w in sim.warnings() {
             eprintln!("warning: {w}");

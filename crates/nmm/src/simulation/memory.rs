@@ -158,7 +158,11 @@ fn address_space_limit() -> Option<f64> {
 
 /// Bytes as a short human figure: `1.2 GB`, `350 MB`.
 pub fn human(bytes: f64) -> String {
-    if bytes >= 1e9 {
+    if bytes >= 1e15 {
+        format!("{bytes:.1e} bytes")
+    } else if bytes >= 1e12 {
+        format!("{:.1} TB", bytes / 1e12)
+    } else if bytes >= 1e9 {
         format!("{:.1} GB", bytes / 1e9)
     } else {
         format!("{:.0} MB", (bytes / 1e6).max(1.0))

@@ -91,16 +91,21 @@ impl HistoryWriter {
         names.extend(text);
         writer.write_record(&names)?;
         writer.flush()?;
-        Ok(Self {
+        Ok(Self::over(writer, columns.len(), text.is_some()))
+    }
+
+    /// A writer of rows of `n_values` monitor values (and a text column) onto `writer`.
+    fn over(writer: csv::Writer<File>, n_values: usize, text_column: bool) -> Self {
+        Self {
             writer,
-            n_values: columns.len(),
+            n_values,
             flush_every: DEFAULT_FLUSH_EVERY,
             rows_since_flush: 0,
             rows: 0,
             non_finite: 0,
             field: String::with_capacity(32),
-            text_column: text.is_some(),
-        })
+            text_column,
+        }
     }
 
     /// Reopens a history written by [`Self::create_with_text`] with the same columns to
@@ -121,16 +126,7 @@ impl HistoryWriter {
             .has_headers(false)
             .terminator(csv::Terminator::Any(b'\n'))
             .from_writer(file);
-        Ok(Self {
-            writer,
-            n_values: columns.len(),
-            flush_every: DEFAULT_FLUSH_EVERY,
-            rows_since_flush: 0,
-            rows: 0,
-            non_finite: 0,
-            field: String::with_capacity(32),
-            text_column: text,
-        })
+        Ok(Self::over(writer, columns.len(), text))
     }
 
     /// Bytes written to the file so far (after a flush).

@@ -321,17 +321,11 @@ impl Simulation {
         w.f(self.last_dt);
         w.f(self.last_max_du);
         let e = &self.energy;
-        for x in [
-            e.kinetic,
-            e.elastic,
-            e.gravity,
-            e.contact,
-            e.penalty,
-            e.external_work,
-            e.initial,
-            e.max,
-            e.scale,
-        ] {
+        for x in e
+            .components()
+            .into_iter()
+            .chain([e.initial, e.max, e.scale])
+        {
             w.f(x);
         }
         let c = self.contacts.saved();

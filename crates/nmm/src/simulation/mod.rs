@@ -167,6 +167,17 @@ impl Energy {
     pub fn total(&self) -> f64 {
         self.kinetic + self.elastic + self.gravity + self.contact + self.penalty
     }
+    /// The components and the external work, in the order of the fields.
+    pub fn components(&self) -> [f64; 6] {
+        [
+            self.kinetic,
+            self.elastic,
+            self.gravity,
+            self.contact,
+            self.penalty,
+            self.external_work,
+        ]
+    }
     /// The largest rise of the total above its start, net of the external work.
     pub fn max_rise(&self) -> f64 {
         self.max - self.initial
@@ -1387,14 +1398,7 @@ impl Simulation {
         }
         let net = e.total() - e.external_work;
         e.max = e.max.max(net);
-        for c in [
-            e.kinetic,
-            e.elastic,
-            e.gravity,
-            e.contact,
-            e.penalty,
-            e.external_work,
-        ] {
+        for c in e.components() {
             e.scale = e.scale.max(c.abs());
         }
     }

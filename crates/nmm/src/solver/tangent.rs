@@ -132,9 +132,11 @@ impl TangentSolver {
             None => true,
         };
         if fresh {
-            let mut values = Vec::new();
+            // the old values' storage serves the new pattern when it is large enough
+            let mut values = self.matrix.take().map(|m| m.values).unwrap_or_default();
+            values.clear();
             values
-                .try_reserve_exact(p.nnz())
+                .try_reserve(p.nnz())
                 .map_err(|_| SolveError::OutOfMemory)?;
             values.resize(p.nnz(), 0.0);
             self.matrix = Some(SparseMatrix { pattern: p, values });

@@ -74,7 +74,9 @@ def read_history(path: Union[str, os.PathLike]):
     """history.csv as a DataFrame with exactly its columns (numbers read back exactly)."""
     import pandas as pd
 
-    return pd.read_csv(path, float_precision="round_trip")
+    # pandas ≥ 3 reads floats exactly by default (and deprecates the option)
+    exact = {"float_precision": "round_trip"} if int(pd.__version__.split(".")[0]) < 3 else {}
+    return pd.read_csv(path, **exact)
 
 
 def as_model(model: Any, base_dir: Union[str, os.PathLike, None] = None) -> Model:

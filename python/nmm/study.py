@@ -262,7 +262,7 @@ def run(
                 n_workers=min(workers, len(todo)),
                 threads_per_worker=1,
                 processes=True,
-                dashboard_address=None,
+                dashboard_address=":0",
             )
             client = Client(own)
         try:

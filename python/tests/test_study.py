@@ -1,0 +1,127 @@
+"""nmm.study on a LocalCluster of 2 workers: 8 incline variants (friction angles) and a
+variant with a bad key."""
+
+import json
+import math
+
+import pandas as pd
+import pytest
+
+import nmm
+import nmm.study
+from conftest import cli
+from incline import closed_form, incline_toml, slip
+
+THETA = 30.0
+PHIS = [10.0, 14.0, 18.0, 22.0, 26.0, 32.0, 36.0, 40.0]
+
+
+@pytest.fixture(scope="module")
+def client():
+    distributed = pytest.importorskip("distributed")
+    cluster = distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0"
+    )
+    c = distributed.Client(cluster)
+    yield c
+    c.close()
+    cluster.close()
+
+
+def variants():
+    v = {f"phi{int(p):02d}": {"interface.0.friction_angle": p} for p in PHIS}
+    v["badkey"] = {"interface.0.friction_angel": 20.0}
+    return v
+
+
+def test_study_of_incline_variants(tmp_path, client, nmm_cli):
+    base = nmm.Model.from_toml(incline_toml(theta=THETA))
+    out = tmp_path / "study"
+    df = nmm.study.run(variants(), client=client, out=out, base=base)
+    assert list(df.index) == list(variants())
+    assert df.index.name == "name"
+    # the bad key is reported in its row, with the file format's one-line message
+    bad = df.loc["badkey"]
+    assert bad["status"] == "error"
+    assert "unknown key `friction_angel`" in bad["error"] and "(<string>, line" in bad["error"]
+    good = df.drop(index="badkey")
+    assert (good["status"] == "ok").all(), good[["status", "error"]]
+    assert good["error"].isna().all()
+    assert (good["steps"] == 1000).all()
+    for c in ("c.ux", "c.uy", "c.vx", "c.vy"):
+        assert {f"{c}.min", f"{c}.max", f"{c}.final"} <= set(df.columns)
+    # each final slip against the closed form ½ g (sin θ − cos θ tan φ) t²
+    for name, phi in zip(good.index, PHIS):
+        h = nmm.read_history(out / name / "history.csv")
+        assert len(h) == 1000
+        s = slip(h["c.ux"].iloc[-1], h["c.uy"].iloc[-1], THETA)
+        assert math.isclose(s, slip(good.loc[name, "c.ux.final"], good.loc[name, "c.uy.final"], THETA))
+        exact = closed_form(h["time"].iloc[-1], THETA, phi)
+        if phi < THETA:
+            assert abs(s - exact) < 0.02 * exact, (name, s, exact)
+        else:
+            assert abs(s) < 1e-3, (name, s)
+        # the row's min and max are the history's
+        assert good.loc[name, "c.ux.max"] == h["c.ux"].max()
+        assert good.loc[name, "c.uy.min"] == h["c.uy"].min()
+    # one variant's history.csv is `nmm run`'s, byte for byte
+    path = tmp_path / "phi18.toml"
+    path.write_text(base.with_overrides({"interface.0.friction_angle": 18.0}).to_toml())
+    p = cli(nmm_cli, "run", path, "--out", tmp_path / "cli18", "--no-vtk")
+    assert p.returncode == 0, p.stderr
+    assert (out / "phi18" / "history.csv").read_bytes() == (tmp_path / "cli18" / "history.csv").read_bytes()
+    saved = pd.read_csv(out / "study.csv", index_col="name")
+    assert list(saved.index) == list(df.index)
+
+    # a second run of the same study skips all 8 (the bad one is reported again)
+    stamps = {n: (out / n / "history.csv").stat().st_mtime_ns for n in good.index}
+    again = nmm.study.run(variants(), client=client, out=out, base=base)
+    assert (again.drop(index="badkey")["status"] == "skipped").all(), again["status"]
+    assert again.loc["badkey", "status"] == "error"
+    assert {n: (out / n / "history.csv").stat().st_mtime_ns for n in good.index} == stamps
+    cols = [c for c in df.columns if c.startswith("c.") or c in ("steps", "iterations", "cuts")]
+    pd.testing.assert_frame_equal(again.loc[good.index, cols], good[cols], check_dtype=False)
+
+    # a changed model reruns only that run; incomplete outputs rerun too
+    changed = variants()
+    changed["phi10"] = {"interface.0.friction_angle": 10.0, "analysis.steps": 500}
+    (out / "phi14" / "study.json").unlink()
+    third = nmm.study.run(changed, client=client, out=out, base=base)
+    assert third.loc["phi10", "status"] == "ok" and third.loc["phi10", "steps"] == 500
+    assert third.loc["phi14", "status"] == "ok"
+    assert (third.drop(index=["phi10", "phi14", "badkey"])["status"] == "skipped").all()
+
+
+def test_study_entries_of_every_kind_on_its_own_cluster(tmp_path):
+    """Models given as nmm.Model, TOML text and a path; no client: a LocalCluster is
+    started for the study. A failing run records its error and the others complete."""
+    path = tmp_path / "m.toml"
+    path.write_text(incline_toml(steps=30))
+    failing = nmm.Model.load(str(path)).with_overrides(
+        {"analysis.max_iterations": 1, "analysis.max_step_cuts": 0, "analysis.dt": 0.5})
+    models = {
+        "model": nmm.Model.from_toml(incline_toml(steps=20)),
+        "text": incline_toml(steps=10),
+        "path": str(path),
+        "fails": failing,
+        "bad/name": incline_toml(steps=10),
+    }
+    df = nmm.study.run(models, out=tmp_path / "s", n_workers=2)
+    assert df.loc["model", "steps"] == 20 and df.loc["text", "steps"] == 10
+    assert df.loc["path", "steps"] == 30
+    assert (df.loc[["model", "text", "path"], "status"] == "ok").all()
+    assert df.loc["fails", "status"] == "error"
+    assert "did not converge" in df.loc["fails", "error"]
+    assert df.loc["bad/name", "status"] == "error" and "folder name" in df.loc["bad/name", "error"]
+    mark = json.loads((tmp_path / "s" / "path" / "study.json").read_text())
+    assert mark["hash"] == df.loc["path", "hash"] == nmm.study.model_hash(nmm.Model.load(str(path)))
+    assert not (tmp_path / "s" / "fails" / "study.json").exists()
+
+
+def test_hash_ignores_layout_but_not_content():
+    a = nmm.Model.from_toml(incline_toml())
+    b = nmm.Model.from_toml("# another comment\n" + incline_toml().replace(" = ", "="))
+    assert nmm.study.model_hash(a) == nmm.study.model_hash(b)
+    c = a.copy().set("interface.0.friction_angle", 20.5)
+    assert nmm.study.model_hash(a) != nmm.study.model_hash(c)
+    assert nmm.study.model_hash(a) != nmm.study.model_hash(a, vtk=True)

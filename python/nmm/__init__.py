@@ -86,7 +86,7 @@ def as_model(model: Any, base_dir: Union[str, os.PathLike, None] = None) -> Mode
     if isinstance(model, os.PathLike):
         return Model.load(os.fspath(model))
     if isinstance(model, str):
-        if "\n" not in model and model.strip().endswith(".toml"):
+        if "\n" not in model and (model.strip().endswith(".toml") or os.path.isfile(model)):
             return Model.load(model)
         return Model.from_toml(model, os.fspath(base_dir) if base_dir is not None else ".")
     raise TypeError(f"expected an nmm.Model, a path or TOML text, got {type(model).__name__}")

@@ -691,6 +691,7 @@ fn run_into<'py>(
         .map_err(|e| PyRuntimeError::new_err(format!("cannot start the run's thread: {e}")))?;
     let mut signal: Option<PyErr> = None;
     let mut last_step = usize::MAX;
+    let mut callback_failed = false;
     let result = loop {
         match py.detach(|| {
             rx.lock()
@@ -712,17 +713,25 @@ fn run_into<'py>(
                 signal = Some(e);
             }
         }
-        if let Some(cb) = &progress {
+        if let (Some(cb), None) = (&progress, &signal) {
             let step = shared.step.load(Ordering::Relaxed);
             if step != last_step {
                 last_step = step;
                 let time = f64::from_bits(shared.time_bits.load(Ordering::Relaxed));
-                cb.call1((step, shared.total.load(Ordering::Relaxed), time))?;
+                if let Err(e) = cb.call1((step, shared.total.load(Ordering::Relaxed), time)) {
+                    // the callback's error stops the run (cleanly) and is raised after it
+                    stop.store(true, Ordering::SeqCst);
+                    signal = Some(e);
+                    callback_failed = true;
+                }
             }
         }
     };
     let _ = handle.join();
-    if let Some(cb) = &progress {
+    if callback_failed {
+        return Err(signal.expect("set with the flag"));
+    }
+    if let (Some(cb), None) = (&progress, &signal) {
         if let Ok(s) = &result {
             cb.call1((s.steps, shared.total.load(Ordering::Relaxed), s.time))?;
         }

@@ -257,3 +257,15 @@ def test_ctrl_c_stops_the_run_cleanly_keeping_outputs(tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "interrupted" and summary["steps"] == int(steps)
     assert hist.read_text().count("\n") == int(steps) + 1
+
+
+def test_a_failing_progress_callback_stops_the_run_and_is_raised(tmp_path):
+    def cb(step, total, t):
+        if step > 0:
+            raise RuntimeError("enough")
+
+    with pytest.raises(RuntimeError, match="enough"):
+        nmm.run(incline_toml(steps=100000), out=tmp_path / "o", progress=cb, vtk=False)
+    # the run stopped cleanly: summary.json says so, and history.csv has its rows
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert summary["status"] == "interrupted" and 0 < summary["steps"] < 100000

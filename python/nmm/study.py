@@ -201,6 +201,7 @@ def run(
     vtk: bool = False,
     n_workers: Optional[int] = None,
     rerun: bool = False,
+    processes: bool = False,
 ):
     """Run a study and return its table (a DataFrame indexed by name, in the given order).
 
@@ -209,8 +210,10 @@ def run(
     :meth:`nmm.Model.with_overrides`; or a DataFrame indexed by name whose columns are key
     paths (with ``base``). ``client``: a ``dask.distributed.Client`` (any cluster: a
     scheduler address, ``dask_jobqueue.SLURMCluster``, Kubernetes); None starts a
-    LocalCluster of ``n_workers`` single-threaded worker processes (default: the CPU count)
-    for this study. ``out``: the study folder; run NAME writes ``out/NAME/``. ``vtk``: also
+    LocalCluster for this study and closes it after: ``n_workers`` runs at once (default:
+    the CPU count), as threads of one worker in this process (runs release the GIL), or
+    with ``processes=True`` as single-threaded worker processes (isolated from each other;
+    a script then needs the ``if __name__ == "__main__":`` guard that multiprocessing asks). ``out``: the study folder; run NAME writes ``out/NAME/``. ``vtk``: also
     write VTK frames. ``rerun``: run even what is complete and unchanged.
 
     Columns: status ("ok", "error" or "skipped"), error (the one-line message), out, steps,
@@ -258,12 +261,16 @@ def run(
             from distributed import Client, LocalCluster
 
             workers = n_workers or os.cpu_count() or 1
-            own = LocalCluster(
-                n_workers=min(workers, len(todo)),
-                threads_per_worker=1,
-                processes=True,
-                dashboard_address=":0",
-            )
+            n = min(workers, len(todo))
+            if processes:
+                own = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                   dashboard_address=":0")
+            else:
+                # one worker of n threads in this process: runs release the GIL, so they
+                # compute in parallel; no process start (works in scripts without a
+                # `__main__` guard and in notebooks)
+                own = LocalCluster(n_workers=1, threads_per_worker=n, processes=False,
+                                   dashboard_address=":0")
             client = Client(own)
         try:
             rows.update(_gather(client, todo))

@@ -125,3 +125,19 @@ def test_hash_ignores_layout_but_not_content():
     c = a.copy().set("interface.0.friction_angle", 20.5)
     assert nmm.study.model_hash(a) != nmm.study.model_hash(c)
     assert nmm.study.model_hash(a) != nmm.study.model_hash(a, vtk=True)
+
+
+def test_the_notebook_style_example_runs(repo, tmp_path):
+    """examples/study.py: a small study and its plot."""
+    pytest.importorskip("matplotlib")
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "NMM_STUDY_OUT": str(tmp_path / "ex")}
+    p = subprocess.run([sys.executable, str(repo / "examples" / "study.py")], env=env,
+                       capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "ex" / "study.png").stat().st_size > 10000
+    table = pd.read_csv(tmp_path / "ex" / "study.csv", index_col="name")
+    assert len(table) == 7 and (table["status"] == "ok").all()

@@ -24,7 +24,7 @@ import tempfile
 from pathlib import Path
 from typing import Any, Callable, Optional, Union
 
-from ._nmm import Model, ModelError, RunError, check, version
+from ._nmm import Model, ModelError, RunError, version
 from . import _nmm
 
 __all__ = [
@@ -90,6 +90,14 @@ def as_model(model: Any, base_dir: Union[str, os.PathLike, None] = None) -> Mode
             return Model.load(model)
         return Model.from_toml(model, os.fspath(base_dir) if base_dir is not None else ".")
     raise TypeError(f"expected an nmm.Model, a path or TOML text, got {type(model).__name__}")
+
+
+def check(model: Any) -> dict:
+    """What ``nmm check --json`` prints for the model, as a dict (``blocks``, ``cracks``,
+    ``physical_covers``, ``manifold_elements``, ``unknowns``, ``block_area_total``,
+    ``smallest_block_area``, …; the same keys, from the same library function).
+    ``model``: an :class:`Model`, a path or TOML text."""
+    return _nmm.check(as_model(model))
 
 
 class _TextProgress:

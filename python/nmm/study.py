@@ -189,7 +189,12 @@ def _missing(v) -> bool:
 
 
 def _plain(v):
-    return v.item() if hasattr(v, "item") else v
+    """A DataFrame cell as a Python value. pandas stores an integer column with empty cells
+    as floats: integral floats are written as integers (which every number key accepts)."""
+    v = v.item() if hasattr(v, "item") else v
+    if isinstance(v, float) and v.is_integer():
+        return int(v)
+    return v
 
 
 def run(

@@ -141,3 +141,16 @@ def test_the_notebook_style_example_runs(repo, tmp_path):
     assert (tmp_path / "ex" / "study.png").stat().st_size > 10000
     table = pd.read_csv(tmp_path / "ex" / "study.csv", index_col="name")
     assert len(table) == 7 and (table["status"] == "ok").all()
+
+
+def test_a_dataframe_of_overrides(tmp_path, client):
+    base = nmm.Model.from_toml(incline_toml(steps=40))
+    design = pd.DataFrame(
+        {"interface.0.friction_angle": [15.0, 25.0], "analysis.steps": [30, None]},
+        index=["a", "b"],
+    )
+    df = nmm.study.run(design, base=base, out=tmp_path / "d", client=client)
+    assert list(df["status"]) == ["ok", "ok"]
+    assert list(df["steps"]) == [30, 40]  # an empty cell keeps the base's value
+    assert df.loc["a", "hash"] == nmm.study.model_hash(
+        base.with_overrides({"interface.0.friction_angle": 15, "analysis.steps": 30}))

@@ -20,8 +20,8 @@ from incline import incline_toml
 EXAMPLE = "examples/direct_shear.toml"
 
 
-def test_load_and_check_match_the_cli(repo, nmm_cli):
-    os.chdir(repo)
+def test_load_and_check_match_the_cli(repo, nmm_cli, monkeypatch):
+    monkeypatch.chdir(repo)
     m = nmm.Model.load(EXAMPLE)
     assert m.source == EXAMPLE
     got = nmm.check(m)
@@ -35,8 +35,8 @@ def test_load_and_check_match_the_cli(repo, nmm_cli):
         assert key in got
 
 
-def test_check_of_a_cut_model_matches_the_cli(repo, nmm_cli):
-    os.chdir(repo)
+def test_check_of_a_cut_model_matches_the_cli(repo, nmm_cli, monkeypatch):
+    monkeypatch.chdir(repo)
     got = nmm.check(nmm.Model.load("examples/jointed_slope.toml"))
     want = json.loads(cli(nmm_cli, "check", "--json", "examples/jointed_slope.toml").stdout)
     assert got == want and got["cut_blocks"] >= 1
@@ -200,7 +200,7 @@ def test_threads_and_progress_arguments():
 
 
 def test_the_gil_is_released_while_a_run_computes():
-    m = nmm.Model.from_toml(incline_toml(steps=3000))
+    m = nmm.Model.from_toml(incline_toml(steps=4000))
     done = threading.Event()
     box = {}
 
@@ -221,10 +221,11 @@ def test_the_gil_is_released_while_a_run_computes():
     th.join()
     during = [t for t in ticks if box["t0"] < t < box["t1"]]
     span = box["t1"] - box["t0"]
-    assert span > 0.3, span
+    assert span > 0.8, span
     gaps = [b - a for a, b in zip(during, during[1:])]
-    # Python ran all along the run, never held off for long
-    assert len(during) > 20 and max(gaps) < 0.2, (len(during), max(gaps or [0]), span)
+    # Python ran all along the run, never held off for long (with the GIL held by the run,
+    # there would be no tick during it at all)
+    assert len(during) > 20 and max(gaps) < min(0.5, span / 3), (len(during), max(gaps or [0]), span)
 
 
 def test_ctrl_c_stops_the_run_cleanly_keeping_outputs(tmp_path):

@@ -143,6 +143,8 @@ def _run_one(name: str, text: str, base_dir: str, source: str, folder: str, dige
         nmm.run(model, out=folder_p, vtk=vtk)
     except (nmm.ModelError, nmm.RunError) as e:
         return {"status": "error", "error": str(e), "out": folder, "hash": digest}
+    except nmm.Interrupted as e:  # stopped (nmm._nmm.stop_all): a row, not a dead worker
+        return {"status": "error", "error": f"{e} (outputs so far kept)", "out": folder, "hash": digest}
     except Exception as e:  # noqa: BLE001 - any failure is this run's, not the study's
         return {"status": "error", "error": f"{type(e).__name__}: {e}", "out": folder, "hash": digest}
     row = row_from_outputs(folder_p)
@@ -279,6 +281,14 @@ def run(
             client = Client(own)
         try:
             rows.update(_gather(client, todo))
+        except KeyboardInterrupt:
+            # Ctrl-C: the runs of this process's own workers stop cleanly after their
+            # current step (outputs kept; without study.json they run again next time)
+            if own is not None and not processes:
+                from . import _nmm
+
+                _nmm.stop_all()
+            raise
         finally:
             if own is not None:
                 client.close()

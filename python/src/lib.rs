@@ -630,6 +630,24 @@ fn check<'py>(py: Python<'py>, model: &Bound<'py, Model>) -> PyResult<Bound<'py,
     json_to_py(py, &v)
 }
 
+/// The stop flags of the runs going on in this process ([`stop_all`]).
+static RUNNING: std::sync::Mutex<Vec<std::sync::Weak<AtomicBool>>> =
+    std::sync::Mutex::new(Vec::new());
+
+/// Stops every run going on in this process cleanly after its current step, as Ctrl-C
+/// stops one (a study stopped by Ctrl-C stops the runs of its in-process workers so).
+/// Returns how many runs were asked to stop.
+#[pyfunction]
+fn stop_all() -> usize {
+    let mut running = RUNNING.lock().unwrap_or_else(|e| e.into_inner());
+    running.retain(|w| w.strong_count() > 0);
+    running
+        .iter()
+        .filter_map(|w| w.upgrade())
+        .map(|f| f.store(true, Ordering::SeqCst))
+        .count()
+}
+
 /// What the run shares with the thread that waits for it.
 #[derive(Default)]
 struct Shared {
@@ -675,6 +693,11 @@ fn run_into<'py>(
             .then(|| PathBuf::from(&m.source)),
     };
     let stop = opts.interrupt.clone().expect("set above");
+    {
+        let mut running = RUNNING.lock().unwrap_or_else(|e| e.into_inner());
+        running.retain(|w| w.strong_count() > 0);
+        running.push(Arc::downgrade(&stop));
+    }
     let shared = Arc::new(Shared::default());
     let (tx, rx) = mpsc::channel();
     // the receiver is shared with the GIL-free waits (a `Receiver` is `Send`, not `Sync`)
@@ -765,6 +788,7 @@ fn _nmm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(run_into, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
+    m.add_function(wrap_pyfunction!(stop_all, m)?)?;
     m.add("ModelError", py.get_type::<ModelError>())?;
     m.add("RunError", py.get_type::<RunError>())?;
     Ok(())

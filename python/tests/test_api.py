@@ -270,3 +270,31 @@ def test_a_failing_progress_callback_stops_the_run_and_is_raised(tmp_path):
     # the run stopped cleanly: summary.json says so, and history.csv has its rows
     summary = json.loads((tmp_path / "o" / "summary.json").read_text())
     assert summary["status"] == "interrupted" and 0 < summary["steps"] < 100000
+
+
+def test_stop_all_stops_runs_on_other_threads(tmp_path):
+    from nmm import _nmm
+
+    box = {}
+
+    def work():
+        try:
+            box["r"] = nmm.run(incline_toml(steps=100000), out=tmp_path / "o", vtk=False)
+        except nmm.Interrupted as e:
+            box["interrupted"] = e.result
+
+    th = threading.Thread(target=work)
+    th.start()
+    hist = tmp_path / "o" / "history.csv"
+    t0 = time.time()
+    while time.time() - t0 < 60 and not (hist.exists() and hist.read_text().count("\n") > 20):
+        time.sleep(0.02)
+    assert _nmm.stop_all() == 1
+    th.join(60)
+    assert not th.is_alive()
+    # the stopped run raises Interrupted on its own thread, with the partial result
+    assert "r" not in box
+    assert box["interrupted"].summary["status"] == "interrupted"
+    assert len(box["interrupted"].history) == box["interrupted"].summary["steps"]
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert summary["status"] == "interrupted"

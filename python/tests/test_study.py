@@ -154,3 +154,45 @@ def test_a_dataframe_of_overrides(tmp_path, client):
     assert list(df["steps"]) == [30, 40]  # an empty cell keeps the base's value
     assert df.loc["a", "hash"] == nmm.study.model_hash(
         base.with_overrides({"interface.0.friction_angle": 15, "analysis.steps": 30}))
+
+
+def test_ctrl_c_stops_a_study_and_its_runs(tmp_path):
+    """Ctrl-C during a study on its own (in-process) cluster: KeyboardInterrupt, the runs
+    stop cleanly after their current step, and a later study runs them again."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import textwrap
+    import time
+
+    out = tmp_path / "s"
+    script = textwrap.dedent(f"""
+        import sys, time
+        sys.path.insert(0, {str(os.path.dirname(__file__))!r})
+        from incline import incline_toml
+        import nmm, nmm.study
+        base = nmm.Model.from_toml(incline_toml(steps=200000))
+        try:
+            nmm.study.run({{"a": {{"interface.0.friction_angle": 10.0}},
+                            "b": {{"interface.0.friction_angle": 40.0}}}},
+                          base=base, out={str(out)!r}, n_workers=2)
+        except KeyboardInterrupt:
+            print("interrupted")
+            sys.exit(130)
+        print("finished")
+    """)
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    hist = [out / n / "history.csv" for n in ("a", "b")]
+    t0 = time.time()
+    while time.time() - t0 < 120:
+        if all(h.exists() and h.read_text().count("\n") > 50 for h in hist):
+            break
+        time.sleep(0.05)
+    p.send_signal(signal.SIGINT)
+    stdout, _ = p.communicate(timeout=120)
+    assert p.returncode == 130 and stdout.strip() == "interrupted", stdout
+    for n in ("a", "b"):
+        s = json.loads((out / n / "summary.json").read_text())
+        assert s["status"] == "interrupted" and s["steps"] < 200000
+        assert not (out / n / "study.json").exists()

@@ -316,10 +316,15 @@ def _gather(client, todo):
         f = client.submit(_run_one, *args, key=f"nmm-run-{name}-{digest[:16]}", pure=False)
         futures[f] = name
     rows = {}
-    for f in as_completed(list(futures)):
-        name = futures[f]
-        try:
-            rows[name] = f.result()
-        except Exception as e:  # noqa: BLE001 - a worker that died, a lost task
-            rows[name] = {"status": "error", "error": f"{type(e).__name__}: {e}"}
+    try:
+        for f in as_completed(list(futures)):
+            name = futures[f]
+            try:
+                rows[name] = f.result()
+            except Exception as e:  # noqa: BLE001 - a worker that died, a lost task
+                rows[name] = {"status": "error", "error": f"{type(e).__name__}: {e}"}
+    except KeyboardInterrupt:
+        # what has not started will not; what runs on a worker goes on to its end
+        client.cancel([f for f in futures if not f.done()])
+        raise
     return rows

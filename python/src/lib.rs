@@ -322,8 +322,13 @@ fn apply_set(doc: &mut DocumentMut, segs: &[String], value: &Bound<'_, PyAny>) -
         }
         return Ok(());
     }
-    // a whole entry of an array of tables, or a dict as a table: written as a table
-    let item = to_item(value)?;
+    // at the top level a dict is a table (`[base_motion]`) and a list of dicts an array of
+    // tables; below it, an inline table or array (valid wherever the key is written)
+    let item = if segs.len() == 1 {
+        to_item(value)?
+    } else {
+        Item::Value(to_value(value)?)
+    };
     match table.get_mut(key) {
         Some(Item::Value(old)) => {
             if let Item::Value(mut v) = item {

@@ -84,6 +84,14 @@ def test_set_goes_through_the_same_validation():
     assert m.get(("interface", 0, "friction_angle")) == 25.0
     m.set("material.rock.young", 2.0e9)  # an entry by its name
     assert m.get("material.rock.young") == 2.0e9
+    # a dict is an inline table; a top-level dict a table
+    m.set("material.rock.damping", {"ratio": 0.05, "frequencies": [1.0, 10.0]})
+    assert m.get("material.rock.damping.ratio") == 0.05
+    m.set("base_motion", {"table": [[0.0, 0.0, 0.0], [1.0, 0.1, 0.0]]})
+    assert "[base_motion]" in m.to_toml()
+    with pytest.raises(nmm.ModelError, match="damping"):
+        m.set("material.rock.damping", {"ratio": -1.0, "frequencies": [1.0, 10.0]})
+    m.set("base_motion", None).set("material.rock.damping", None)
     before = m.to_toml()
     # the file format's own error, naming the key and line; the model is unchanged
     with pytest.raises(nmm.ModelError, match=r"friction_angle.*\[0, 90\)"):

@@ -208,7 +208,7 @@ def test_threads_and_progress_arguments():
 
 
 def test_the_gil_is_released_while_a_run_computes():
-    m = nmm.Model.from_toml(incline_toml(steps=4000))
+    m = nmm.Model.from_toml(incline_toml(steps=6000))
     done = threading.Event()
     box = {}
 
@@ -229,7 +229,7 @@ def test_the_gil_is_released_while_a_run_computes():
     th.join()
     during = [t for t in ticks if box["t0"] < t < box["t1"]]
     span = box["t1"] - box["t0"]
-    assert span > 0.8, span
+    assert span > 0.5, span
     gaps = [b - a for a, b in zip(during, during[1:])]
     # Python ran all along the run, never held off for long (with the GIL held by the run,
     # there would be no tick during it at all)

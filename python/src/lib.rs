@@ -281,6 +281,31 @@ fn to_item(v: &Bound<'_, PyAny>) -> PyResult<Item> {
     Ok(Item::Value(to_value(v)?))
 }
 
+/// A dict of the given keys whose value is not None, then the extra keywords.
+fn entry<'py, const N: usize>(
+    pairs: [(&str, Option<Bound<'py, PyAny>>); N],
+    extra: Option<Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let py = pairs
+        .iter()
+        .find_map(|(_, v)| v.as_ref().map(|v| v.py()))
+        .expect("every entry has a required key");
+    let dict = PyDict::new(py);
+    for (k, v) in pairs {
+        if let Some(v) = v {
+            if !v.is_none() {
+                dict.set_item(k, v)?;
+            }
+        }
+    }
+    if let Some(extra) = extra {
+        for (k, v) in extra.iter() {
+            dict.set_item(k, v)?;
+        }
+    }
+    Ok(dict)
+}
+
 /// A TOML value as a Python object (tables as dicts).
 fn value_to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
     Ok(match v {
@@ -474,6 +499,180 @@ impl Model {
                     )))
                 }
             }
+            Ok(())
+        })?;
+        *slf = new;
+        Ok(slf)
+    }
+
+    /// Adds a `[[material]]` (Pa, kg/m³; `plane` "strain" | "stress"; `damping` a dict, see
+    /// docs/model-format.md).
+    #[pyo3(signature = (name, density, young, poisson, plane = None, damping = None, **extra))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_material<'py>(
+        slf: PyRefMut<'py, Self>,
+        name: Bound<'py, PyAny>,
+        density: Bound<'py, PyAny>,
+        young: Bound<'py, PyAny>,
+        poisson: Bound<'py, PyAny>,
+        plane: Option<Bound<'py, PyAny>>,
+        damping: Option<Bound<'py, PyAny>>,
+        extra: Option<Bound<'py, PyDict>>,
+    ) -> PyResult<PyRefMut<'py, Self>> {
+        let e = entry(
+            [
+                ("name", Some(name)),
+                ("density", Some(density)),
+                ("young", Some(young)),
+                ("poisson", Some(poisson)),
+                ("plane", plane),
+                ("damping", damping),
+            ],
+            extra,
+        )?;
+        Model::add(slf, "material", &e)
+    }
+
+    /// Adds a `[[block]]`: a simple polygon `[[x, y], ...]` of a material; `fixed` holds it.
+    #[pyo3(signature = (name, material, vertices, fixed = None, **extra))]
+    fn add_block<'py>(
+        slf: PyRefMut<'py, Self>,
+        name: Bound<'py, PyAny>,
+        material: Bound<'py, PyAny>,
+        vertices: Bound<'py, PyAny>,
+        fixed: Option<Bound<'py, PyAny>>,
+        extra: Option<Bound<'py, PyDict>>,
+    ) -> PyResult<PyRefMut<'py, Self>> {
+        let e = entry(
+            [
+                ("name", Some(name)),
+                ("material", Some(material)),
+                ("vertices", Some(vertices)),
+                ("fixed", fixed),
+            ],
+            extra,
+        )?;
+        Model::add(slf, "block", &e)
+    }
+
+    /// Adds an `[[interface]]`: the default (neither `blocks` nor `joint`), a block pair's
+    /// or a joint's contact properties (degrees, Pa, N/m).
+    #[pyo3(signature = (friction_angle, normal_penalty, shear_penalty, blocks = None, joint = None, cohesion = None, **extra))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_interface<'py>(
+        slf: PyRefMut<'py, Self>,
+        friction_angle: Bound<'py, PyAny>,
+        normal_penalty: Bound<'py, PyAny>,
+        shear_penalty: Bound<'py, PyAny>,
+        blocks: Option<Bound<'py, PyAny>>,
+        joint: Option<Bound<'py, PyAny>>,
+        cohesion: Option<Bound<'py, PyAny>>,
+        extra: Option<Bound<'py, PyDict>>,
+    ) -> PyResult<PyRefMut<'py, Self>> {
+        let e = entry(
+            [
+                ("blocks", blocks),
+                ("joint", joint),
+                ("friction_angle", Some(friction_angle)),
+                ("cohesion", cohesion),
+                ("normal_penalty", Some(normal_penalty)),
+                ("shear_penalty", Some(shear_penalty)),
+            ],
+            extra,
+        )?;
+        Model::add(slf, "interface", &e)
+    }
+
+    /// Adds a `[[joint]]`: a polyline `[[x, y], ...]` cutting `blocks` (default: every block
+    /// that is not fixed).
+    #[pyo3(signature = (name, points, blocks = None, **extra))]
+    fn add_joint<'py>(
+        slf: PyRefMut<'py, Self>,
+        name: Bound<'py, PyAny>,
+        points: Bound<'py, PyAny>,
+        blocks: Option<Bound<'py, PyAny>>,
+        extra: Option<Bound<'py, PyDict>>,
+    ) -> PyResult<PyRefMut<'py, Self>> {
+        let e = entry(
+            [
+                ("name", Some(name)),
+                ("points", Some(points)),
+                ("blocks", blocks),
+            ],
+            extra,
+        )?;
+        Model::add(slf, "joint", &e)
+    }
+
+    /// Adds a `[[joint_set]]`: parallel traces at `angle` (degrees) `spacing` apart through
+    /// `origin`; `trace_length`/`bridge` and more keys as keywords.
+    #[pyo3(signature = (name, angle, spacing, origin = None, blocks = None, **extra))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_joint_set<'py>(
+        slf: PyRefMut<'py, Self>,
+        name: Bound<'py, PyAny>,
+        angle: Bound<'py, PyAny>,
+        spacing: Bound<'py, PyAny>,
+        origin: Option<Bound<'py, PyAny>>,
+        blocks: Option<Bound<'py, PyAny>>,
+        extra: Option<Bound<'py, PyDict>>,
+    ) -> PyResult<PyRefMut<'py, Self>> {
+        let e = entry(
+            [
+                ("name", Some(name)),
+                ("angle", Some(angle)),
+                ("spacing", Some(spacing)),
+                ("origin", origin),
+                ("blocks", blocks),
+            ],
+            extra,
+        )?;
+        Model::add(slf, "joint_set", &e)
+    }
+
+    /// Adds a `[[monitor]]`: a material `point` or an `interface` pair of blocks.
+    #[pyo3(signature = (name, point = None, interface = None))]
+    fn add_monitor<'py>(
+        slf: PyRefMut<'py, Self>,
+        name: Bound<'py, PyAny>,
+        point: Option<Bound<'py, PyAny>>,
+        interface: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<PyRefMut<'py, Self>> {
+        let e = entry(
+            [
+                ("name", Some(name)),
+                ("point", point),
+                ("interface", interface),
+            ],
+            None,
+        )?;
+        Model::add(slf, "monitor", &e)
+    }
+
+    /// Sets `[base_motion]` (replacing any): a `table` of rows `[t, ax, ay]`, or a record
+    /// `file` (relative to `base_dir`) with `format`, `component` and `scale`.
+    #[pyo3(signature = (table = None, file = None, format = None, component = None, scale = None))]
+    fn set_base_motion<'py>(
+        mut slf: PyRefMut<'py, Self>,
+        table: Option<Bound<'py, PyAny>>,
+        file: Option<Bound<'py, PyAny>>,
+        format: Option<Bound<'py, PyAny>>,
+        component: Option<Bound<'py, PyAny>>,
+        scale: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<PyRefMut<'py, Self>> {
+        let e = entry(
+            [
+                ("table", table),
+                ("file", file),
+                ("format", format),
+                ("component", component),
+                ("scale", scale),
+            ],
+            None,
+        )?;
+        let t = to_table(&e)?;
+        let new = slf.edited(|doc| {
+            doc.as_table_mut().insert("base_motion", Item::Table(t));
             Ok(())
         })?;
         *slf = new;

@@ -306,3 +306,36 @@ def test_stop_all_stops_runs_on_other_threads(tmp_path):
     assert len(box["interrupted"].history) == box["interrupted"].summary["steps"]
     summary = json.loads((tmp_path / "o" / "summary.json").read_text())
     assert summary["status"] == "interrupted"
+
+
+def test_typed_builders_make_the_incline_of_the_file():
+    """The incline built call by call equals the one read from its TOML text."""
+    ref = nmm.Model.from_toml(incline_toml(steps=200))
+    d = ref.to_dict()
+    # a valid start (a placeholder block), then typed calls, each validated as it is made
+    b = nmm.Model.from_dict({"analysis": d["analysis"], "cover": d["cover"],
+                             "material": [{"name": "tmp", "density": 1.0, "young": 1.0, "poisson": 0.0}],
+                             "block": [{"name": "tmp", "material": "tmp", "fixed": True,
+                                        "vertices": [[50.0, 50.0], [51.0, 50.0], [51.0, 51.0]]}]})
+    b.add_material("rock", density=2000.0, young=1.0e9, poisson=0.25)
+    b.add_interface(20.0, normal_penalty=1.0e9, shear_penalty=1.0e9)
+    base, slider = d["block"]
+    b.add_block("base", "rock", base["vertices"], fixed=True)
+    b.add_block("slider", "rock", slider["vertices"])
+    b.add_monitor("c", point=d["monitor"][0]["point"])
+    b.remove("block", "tmp").remove("material", "tmp")
+    assert b.canonical() == ref.canonical()
+    assert nmm.run(b).history.equals(nmm.run(ref).history)
+    # the typed calls go through the same validation
+    with pytest.raises(nmm.ModelError, match="poisson"):
+        b.add_material("soft", density=1000.0, young=1.0e6, poisson=0.7)
+    with pytest.raises(nmm.ModelError, match=r"unknown key `colour`"):
+        b.add_block("c2", "rock", [[10, 10], [11, 10], [11, 11]], colour="red")
+    b.set_base_motion(table=[[0.0, 0.0, 0.0], [0.5, 1.0, 0.0]], scale=0.5)
+    assert b.get("base_motion.scale") == 0.5
+    with pytest.raises(nmm.ModelError, match="either `table` or `file`"):
+        b.set_base_motion(table=[[0.0, 0.0, 0.0]], file="x.csv")
+    b.add_joint_set("bed", angle=10.0, spacing=0.1, blocks=["slider"])
+    assert nmm.check(b)["blocks"] > 2
+    b.add_joint("f", [[-10.0, 0.0], [10.0, 20.0]], blocks=["slider"])
+    assert nmm.check(b)["joints"] == 2

@@ -209,6 +209,7 @@ def run(
     n_workers: Optional[int] = None,
     rerun: bool = False,
     processes: bool = False,
+    progress: bool = False,
 ):
     """Run a study and return its table (a DataFrame indexed by name, in the given order).
 
@@ -221,7 +222,8 @@ def run(
     the CPU count), as threads of one worker in this process (runs release the GIL), or
     with ``processes=True`` as single-threaded worker processes (isolated from each other;
     a script then needs the ``if __name__ == "__main__":`` guard that multiprocessing asks). ``out``: the study folder; run NAME writes ``out/NAME/``. ``vtk``: also
-    write VTK frames. ``rerun``: run even what is complete and unchanged.
+    write VTK frames. ``rerun``: run even what is complete and unchanged. ``progress``: one
+    line on stderr per finished run (``[3/40] NAME ok 12.3 s``).
 
     Columns: status ("ok", "error" or "skipped"), error (the one-line message), out, steps,
     time, unknowns, iterations (total Newton iterations), iterations_max, cuts (Δt cuts),
@@ -280,7 +282,7 @@ def run(
                                    dashboard_address=":0")
             client = Client(own)
         try:
-            rows.update(_gather(client, todo))
+            rows.update(_gather(client, todo, progress))
         except KeyboardInterrupt:
             # Ctrl-C: the runs of this process's own workers stop cleanly after their
             # current step (outputs kept; without study.json they run again next time)
@@ -307,7 +309,9 @@ def run(
     return table
 
 
-def _gather(client, todo):
+def _gather(client, todo, progress=False):
+    import sys
+
     from distributed import as_completed
 
     futures = {}
@@ -323,6 +327,12 @@ def _gather(client, todo):
                 rows[name] = f.result()
             except Exception as e:  # noqa: BLE001 - a worker that died, a lost task
                 rows[name] = {"status": "error", "error": f"{type(e).__name__}: {e}"}
+            if progress:
+                r = rows[name]
+                wall = r.get("wall_time")
+                detail = f"{wall:.1f} s" if isinstance(wall, float) else (r.get("error") or "")
+                sys.stderr.write(f"[{len(rows)}/{len(futures)}] {name} {r['status']} {detail}\n")
+                sys.stderr.flush()
     except KeyboardInterrupt:
         # what has not started will not; what runs on a worker goes on to its end
         client.cancel([f for f in futures if not f.done()])

@@ -92,7 +92,7 @@ def test_study_of_incline_variants(tmp_path, client, nmm_cli):
     assert (third.drop(index=["phi10", "phi14", "badkey"])["status"] == "skipped").all()
 
 
-def test_study_entries_of_every_kind_on_its_own_cluster(tmp_path):
+def test_study_entries_of_every_kind_on_its_own_cluster(tmp_path, capsys):
     """Models given as nmm.Model, TOML text and a path; no client: a LocalCluster is
     started for the study. A failing run records its error and the others complete."""
     path = tmp_path / "m.toml"
@@ -106,7 +106,7 @@ def test_study_entries_of_every_kind_on_its_own_cluster(tmp_path):
         "fails": failing,
         "bad/name": incline_toml(steps=10),
     }
-    df = nmm.study.run(models, out=tmp_path / "s", n_workers=2)
+    df = nmm.study.run(models, out=tmp_path / "s", n_workers=2, progress=True)
     assert df.loc["model", "steps"] == 20 and df.loc["text", "steps"] == 10
     assert df.loc["path", "steps"] == 30
     assert (df.loc[["model", "text", "path"], "status"] == "ok").all()
@@ -116,6 +116,10 @@ def test_study_entries_of_every_kind_on_its_own_cluster(tmp_path):
     mark = json.loads((tmp_path / "s" / "path" / "study.json").read_text())
     assert mark["hash"] == df.loc["path", "hash"] == nmm.study.model_hash(nmm.Model.load(str(path)))
     assert not (tmp_path / "s" / "fails" / "study.json").exists()
+    # progress: one line per run that went to the cluster (the bad name never did)
+    lines = [l for l in capsys.readouterr().err.splitlines() if l.startswith("[")]
+    assert len(lines) == 4 and lines[-1].startswith("[4/4] ")
+    assert any(" fails error " in l and "did not converge" in l for l in lines)
 
 
 def test_hash_ignores_layout_but_not_content():

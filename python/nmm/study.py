@@ -216,8 +216,9 @@ def run(
     ``models``: a mapping name → an :class:`nmm.Model`, TOML text, a model file's path, or
     (with ``base``) a dict of overrides ``{key_path: value}`` applied to the base model with
     :meth:`nmm.Model.with_overrides`; or a DataFrame indexed by name whose columns are key
-    paths (with ``base``). ``client``: a ``dask.distributed.Client`` (any cluster: a
-    scheduler address, ``dask_jobqueue.SLURMCluster``, Kubernetes); None starts a
+    paths (with ``base``). ``client``: a ``dask.distributed.Client`` of any cluster, or
+    what ``Client()`` accepts (a scheduler address ``"tcp://host:8786"``, a cluster object
+    such as ``dask_jobqueue.SLURMCluster`` or a Kubernetes cluster); None starts a
     LocalCluster for this study and closes it after: ``n_workers`` runs at once (default:
     the CPU count), as threads of one worker in this process (runs release the GIL), or
     with ``processes=True`` as single-threaded worker processes (isolated from each other;
@@ -266,6 +267,12 @@ def run(
 
     if todo:
         own = None
+        opened = None
+        if client is not None and not hasattr(client, "submit"):
+            # a scheduler address ("tcp://host:8786") or a cluster object (SLURMCluster, …)
+            from distributed import Client
+
+            client = opened = Client(client)
         if client is None:
             from distributed import Client, LocalCluster
 
@@ -295,6 +302,8 @@ def run(
             if own is not None:
                 client.close()
                 own.close()
+            elif opened is not None:
+                opened.close()
 
     table = pd.DataFrame.from_dict(
         {n: rows[n] for n in rows}, orient="index"

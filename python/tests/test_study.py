@@ -147,13 +147,14 @@ def test_the_notebook_style_example_runs(repo, tmp_path):
     assert len(table) == 7 and (table["status"] == "ok").all()
 
 
-def test_a_dataframe_of_overrides(tmp_path, client):
+def test_a_dataframe_of_overrides_on_a_scheduler_address(tmp_path, client):
     base = nmm.Model.from_toml(incline_toml(steps=40))
     design = pd.DataFrame(
         {"interface.0.friction_angle": [15.0, 25.0], "analysis.steps": [30, None]},
         index=["a", "b"],
     )
-    df = nmm.study.run(design, base=base, out=tmp_path / "d", client=client)
+    # the client may be given as what Client() takes: here the scheduler's address
+    df = nmm.study.run(design, base=base, out=tmp_path / "d", client=client.scheduler.address)
     assert list(df["status"]) == ["ok", "ok"]
     assert list(df["steps"]) == [30, 40]  # an empty cell keeps the base's value
     assert df.loc["a", "hash"] == nmm.study.model_hash(

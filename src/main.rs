@@ -256,6 +256,12 @@ fn run(
         t.stages.factorisation.as_secs_f64(),
         t.stages.solve.as_secs_f64()
     );
+    for line in [summary.cut_line(), summary.equilibrium_line()]
+        .into_iter()
+        .flatten()
+    {
+        eprintln!("{line}");
+    }
     if summary.interrupted {
         eprintln!(
             "interrupted at step {}: outputs so far are in {}",

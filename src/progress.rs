@@ -13,7 +13,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 
 const TEMPLATE: &str =
-    "[{elapsed_precise}] {bar:30.cyan/blue} step {pos}/{len}  t = {msg}  ETA {eta}";
+    "[{elapsed_precise}] {bar:30.cyan/blue} step {pos}/{len}  t = {prefix}  {msg}  ETA {eta}";
 
 /// Progress of a run of `total_steps` steps.
 pub struct Progress {
@@ -61,7 +61,16 @@ impl Progress {
     pub fn set(&self, step: usize, time: f64) {
         self.bar.set_position(step as u64);
         if self.drawn {
-            self.bar.set_message(format_time(time));
+            self.bar.set_prefix(format_time(time));
+        }
+    }
+
+    /// Shows the run's counters: linear solves, Δt cuts, active-set changes.
+    pub fn set_counts(&self, solves: usize, cuts: usize, changes: usize) {
+        if self.drawn {
+            self.bar.set_message(format!(
+                "solves {solves}  cuts {cuts}  active-set changes {changes}"
+            ));
         }
     }
 
@@ -114,6 +123,9 @@ impl nmm::simulation::RunObserver for Progress {
     }
     fn step_done(&mut self, step: usize, time: f64) {
         self.set(step, time);
+    }
+    fn counts(&mut self, solves: usize, cuts: usize, changes: usize) {
+        self.set_counts(solves, cuts, changes);
     }
     fn message(&mut self, line: &str) {
         self.println(line);

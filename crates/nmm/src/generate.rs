@@ -13,9 +13,9 @@ pub use slope::{
     SLOPE_FRICTION_ANGLE, SLOPE_PENALTY, SLOPE_POISSON, SLOPE_YOUNG,
 };
 pub use wall::{
-    brick_wall_model, wall_base_extent, wall_course_offset, wall_geometry, WallGeometry,
-    WallOptions, WALL_BASE_DEPTH, WALL_BRICK_HEIGHT, WALL_BRICK_LENGTH, WALL_FRICTION_ANGLE,
-    WALL_PENALTY, WALL_POISSON, WALL_UNIT_WEIGHT, WALL_YOUNG,
+    brick_wall_model, wall_base_extent, wall_course_offset, wall_geometry, wall_geometry_with,
+    WallGeometry, WallOptions, WALL_BASE_DEPTH, WALL_BRICK_HEIGHT, WALL_BRICK_LENGTH,
+    WALL_FRICTION_ANGLE, WALL_PENALTY, WALL_POISSON, WALL_UNIT_WEIGHT, WALL_YOUNG,
 };
 
 use crate::geometry::Vec2;

@@ -165,6 +165,7 @@ impl Config {
                 dt: self.dt,
                 cover: self.wall_cover,
                 mode: self.mode,
+                closers: false,
             })),
             Case::Slope { blocks } => jointed_slope_model(&self.slope_options(blocks, steps)),
         }

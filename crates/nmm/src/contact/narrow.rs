@@ -24,7 +24,8 @@
 //!    `B` (its normal, or at a vertex the sum of the two adjacent normals, the
 //!    2-D pseudo-normal), which is exact for simple polygons and needed near
 //!    reflex corners of a non-convex `B`. Exception (*face overlap*): a corner of `A`
-//!    outside `B` by less than `CORNER_SIDE` × the reach keeps a penetrating candidate
+//!    outside `B` by less than `CORNER_SIDE` × the reach (and at most `CORNER_SIDE_MAX` × the
+//!    size of `B`: a hair, not a wide search's reach) keeps a penetrating candidate
 //!    segment when an edge of `A` at the corner runs along that segment (parallel
 //!    within the fit angle) back into its extent. Two blocks whose faces meet corner to
 //!    corner (the voussoirs of an arch at its extrados and intrados) leave, once they
@@ -233,6 +234,8 @@ const TIE: f64 = 0.02;
 /// A corner of A outside B by less than this fraction of the reach may still touch a
 /// face it overlaps (rule 2).
 const CORNER_SIDE: f64 = 0.1;
+/// ... and by at most this fraction of B's size (the diagonal of its box).
+const CORNER_SIDE_MAX: f64 = 1e-3;
 
 /// Whether an edge of A at its vertex (unit directions `u_prev`, `u_next` to the
 /// neighbours) runs along segment `j` of B, parallel within the fit angle, from the
@@ -286,7 +289,7 @@ fn detect(
     let seg = Segments::new(b);
     let scale_b = bbox_b.diagonal();
     let on_tol = 1e-12 * scale_b;
-    let corner_tol = CORNER_SIDE * reach;
+    let corner_tol = (CORNER_SIDE * reach).min(CORNER_SIDE_MAX * scale_b);
     let grid = use_grid.then(|| Grid::new(b, &seg, &bbox_b, reach));
     let all: Vec<(u64, u32)> = if grid.is_none() {
         (0..nb as u32).map(|j| (0, j)).collect()

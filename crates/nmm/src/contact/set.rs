@@ -530,9 +530,6 @@ impl ContactSet {
     pub fn choose_branches(&mut self, du: &[f64], first: bool) -> usize {
         let law = self.law;
         let mut changed = 0;
-        let debug = std::env::var_os("NMM_DEBUG_BRANCHES").is_some();
-        let mut trans = [0usize; 9];
-        let mut head = 0usize;
         for c in self.contacts.iter_mut() {
             let (gn, gs) = c.gaps(du);
             let ctx = IterationContext {
@@ -540,17 +537,6 @@ impl ContactSet {
                 touching: c.touching,
             };
             let b = law.iteration_branch(&c.params, &c.history, gn, gs, ctx);
-            if !first && b != c.branch && debug {
-                let k = |x: Branch| match x {
-                    Branch::Open => 0,
-                    Branch::Stick => 1,
-                    Branch::Slide(_) => 2,
-                };
-                trans[k(c.branch) * 3 + k(b)] += 1;
-                if c.normal[1].abs() < 0.5 {
-                    head += 1;
-                }
-            }
             changed += usize::from(if first {
                 b != Branch::Open
             } else {
@@ -558,10 +544,6 @@ impl ContactSet {
             });
             c.branch = b;
             c.coef = tangent4(&law.on_branch(&c.params, &c.history, gn, gs, b));
-        }
-        if debug && !first {
-            eprintln!("    transitions o->s {} o->sl {} s->o {} s->sl {} sl->o {} sl->s {} sl->sl {} (head joints {head})",
-                trans[1], trans[2], trans[3], trans[5], trans[6], trans[7], trans[8]);
         }
         changed
     }

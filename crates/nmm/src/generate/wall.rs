@@ -39,6 +39,12 @@ pub struct WallOptions {
     /// Mathematical mesh size h (m).
     pub cover: f64,
     pub mode: Mode,
+    /// Half bricks (closers) at both ends of the odd courses, as masonry walls are laid,
+    /// so that every course ends flush with the wall's ends. Without them (the peer's
+    /// geometry) the odd courses overhang the wall's right end by half a brick and the
+    /// top course's end brick has its centre of mass exactly above the edge of the brick
+    /// below: a neutral equilibrium that topples under any perturbation.
+    pub closers: bool,
 }
 
 impl WallOptions {
@@ -51,6 +57,7 @@ impl WallOptions {
             dt: 0.001,
             cover: 0.2,
             mode: Mode::Dynamic,
+            closers: false,
         }
     }
 }
@@ -62,6 +69,8 @@ impl WallOptions {
 pub struct WallGeometry {
     pub base: [Vec2; 4],
     pub bricks: Vec<[Vec2; 4]>,
+    /// (course, index within the course) of each brick.
+    pub places: Vec<(usize, usize)>,
     /// The `top` monitor: centre of brick `nx / 2` of the top course.
     pub monitor: Vec2,
 }
@@ -81,19 +90,32 @@ pub fn wall_base_extent(nx: usize) -> (f64, f64) {
     (-0.5, w + WALL_BRICK_LENGTH / 2.0 + 0.5)
 }
 
-/// The wall's blocks (see [`WallGeometry`]).
+/// The wall's blocks (see [`WallGeometry`]), the peer's geometry (no closers).
 pub fn wall_geometry(nx: usize, ny: usize) -> WallGeometry {
+    wall_geometry_with(nx, ny, false)
+}
+
+/// The wall's blocks, with or without closers (see [`WallOptions::closers`]).
+pub fn wall_geometry_with(nx: usize, ny: usize, closers: bool) -> WallGeometry {
     let (bw, bh) = (WALL_BRICK_LENGTH, WALL_BRICK_HEIGHT);
     let (xl, xr) = wall_base_extent(nx);
     let d = WALL_BASE_DEPTH;
     let base = [[xl, -d], [xr, -d], [xr, 0.0], [xl, 0.0]];
     let mut bricks = Vec::with_capacity(nx * ny);
+    let mut places = Vec::with_capacity(nx * ny);
     for k in 0..ny {
         let off = wall_course_offset(k);
         let (y0, y1) = (k as f64 * bh, (k + 1) as f64 * bh);
-        for i in 0..nx {
-            let x0 = off + i as f64 * bw;
-            bricks.push([[x0, y0], [x0 + bw, y0], [x0 + bw, y1], [x0, y1]]);
+        // the joints of the course, from its left end to its right
+        let mut xs: Vec<f64> = (0..=nx).map(|i| off + i as f64 * bw).collect();
+        if closers && off > 0.0 {
+            xs.insert(0, 0.0);
+            *xs.last_mut().unwrap() = nx as f64 * bw;
+        }
+        for (i, w) in xs.windows(2).enumerate() {
+            let (x0, x1) = (w[0], w[1]);
+            bricks.push([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]);
+            places.push((k, i));
         }
     }
     let top = ny.saturating_sub(1);
@@ -104,6 +126,7 @@ pub fn wall_geometry(nx: usize, ny: usize) -> WallGeometry {
     WallGeometry {
         base,
         bricks,
+        places,
         monitor,
     }
 }
@@ -115,7 +138,7 @@ pub fn wall_geometry(nx: usize, ny: usize) -> WallGeometry {
 /// If `nx` or `ny` is zero.
 pub fn brick_wall_model(o: &WallOptions) -> String {
     assert!(o.nx > 0 && o.ny > 0, "a wall needs at least one brick");
-    let g = wall_geometry(o.nx, o.ny);
+    let g = wall_geometry_with(o.nx, o.ny, o.closers);
     let mode = match o.mode {
         Mode::Dynamic => "dynamic",
         Mode::Static => "static",
@@ -158,8 +181,7 @@ vertices = {base}
         density = WALL_UNIT_WEIGHT / 9.81,
         base = fmt_poly(&g.base),
     );
-    for (n, b) in g.bricks.iter().enumerate() {
-        let (k, i) = (n / o.nx, n % o.nx);
+    for (b, &(k, i)) in g.bricks.iter().zip(&g.places) {
         s.push_str(&format!(
             "\n[[block]]\nname = \"b{k}_{i}\"\nmaterial = \"brick\"\nvertices = {}\n",
             fmt_poly(b)

@@ -240,6 +240,8 @@ pub struct Simulation {
     solver_step: Option<usize>,
     /// The contacts were detected on the current geometry (for the next step).
     contacts_current: bool,
+    /// Search distance of the contacts' detection of the current step (m).
+    search_used: f64,
     /// Increment and Δt of the last step (the predictor of the next one).
     last_du: Vec<f64>,
     last_dt: f64,
@@ -321,6 +323,7 @@ impl Simulation {
             solver_cm: None,
             solver_step: None,
             contacts_current: false,
+            search_used: 0.0,
             last_du: vec![0.0; n],
             last_dt: 0.0,
             last_max_du: 0.0,
@@ -333,17 +336,13 @@ impl Simulation {
         setup::loads(&mut sim)?;
         setup::constraints(&mut sim)?;
         setup::monitors(&mut sim)?;
-        sim.ghosts = (if std::env::var_os("NMM_NO_GHOSTS").is_some() {
-            vec![]
-        } else {
-            crate::cover::stabilise::ghost_ties(&sim.disc)
-        })
-        .iter()
-        .map(|t| {
-            let e = sim.model.materials[sim.model.blocks[t.block].material].young;
-            Ghost::new(&sim.disc, t, crate::cover::stabilise::GHOST_STIFFNESS * e)
-        })
-        .collect();
+        sim.ghosts = crate::cover::stabilise::ghost_ties(&sim.disc)
+            .iter()
+            .map(|t| {
+                let e = sim.model.materials[sim.model.blocks[t.block].material].young;
+                Ghost::new(&sim.disc, t, crate::cover::stabilise::GHOST_STIFFNESS * e)
+            })
+            .collect();
         sim.build_element_pattern();
         Ok(sim)
     }
@@ -438,18 +437,16 @@ impl Simulation {
     pub fn advance(&mut self) -> Result<StepReport, StepError> {
         // 2. contacts on the geometry at t_n (once per step, whatever the cuts)
         if !self.contacts_current {
-            let tc = Instant::now();
             let search = self.search_distance();
-            self.contacts
-                .detect(&self.disc, &self.model, &self.u, search);
-            self.timings.stages.contact += tc.elapsed();
-            self.contacts_current = true;
+            self.detect_contacts(search);
         }
         self.assemble_step_parts();
         let mut dt = self.model.analysis.dt - self.partial;
         let mut last = (f64::NAN, String::new());
         let mut solves = 0;
-        for cuts in 0..=self.model.analysis.max_step_cuts {
+        let mut redone = 0;
+        let mut cuts = 0;
+        while cuts <= self.model.analysis.max_step_cuts {
             match self.attempt(dt) {
                 Ok(mut rep) => {
                     rep.cuts = cuts;
@@ -463,6 +460,25 @@ impl Simulation {
                         what,
                     })
                 }
+                Err(Failure::Outran {
+                    motion,
+                    iterations,
+                    found,
+                }) => {
+                    solves += iterations;
+                    if redone < OUTRUN_RETRIES {
+                        // the same step again, with the contacts along its motion (already
+                        // detected)
+                        redone += 1;
+                        continue;
+                    }
+                    last = (
+                        f64::NAN,
+                        format!(
+                            ": it moves {motion:.3e} m and closes contacts beyond its search ({found} found)"
+                        ),
+                    );
+                }
                 Err(Failure::NotConverged {
                     residual,
                     detail,
@@ -473,6 +489,7 @@ impl Simulation {
                 }
             }
             dt *= 0.5;
+            cuts += 1;
         }
         Err(StepError::NotConverged {
             step: self.step + 1,
@@ -481,6 +498,26 @@ impl Simulation {
             residual: last.0,
             detail: last.1,
         })
+    }
+
+    /// Contacts on the geometry at t_n, searched within `search` (m).
+    fn detect_contacts(&mut self, search: f64) {
+        let tc = Instant::now();
+        self.contacts
+            .detect(&self.disc, &self.model, &self.u, search);
+        self.timings.stages.contact += tc.elapsed();
+        self.contacts_current = true;
+        self.search_used = search;
+    }
+
+    /// Largest motion of a node (cover) in the increment `du` (m).
+    fn largest_motion(&self, du: &[f64]) -> f64 {
+        self.disc
+            .covers
+            .iter()
+            .filter_map(|c| c.dof)
+            .map(|d| du[d].hypot(du[d + 1]))
+            .fold(0.0, f64::max)
     }
 
     /// Element stiffness, mass, body-force integrals and internal forces on the geometry at
@@ -696,8 +733,15 @@ impl Simulation {
                 // point, moves the mechanism and leaves the rest; Δt is shortened (the
                 // inertia raised) until no point moves more than STATIC_MAX_MOTION × h.
                 let limit = STATIC_MAX_MOTION * self.model.cover_size;
-                let anchor = du.clone();
+                // the anchor only where it is itself within the limit (a continuation that
+                // wandered off is no point to start a limited step from)
+                let anchor = if self.largest_motion(&du) <= limit {
+                    du.clone()
+                } else {
+                    vec![0.0; n]
+                };
                 let mut c = cm;
+                let mut limited = false;
                 let mut spent = rep.iterations;
                 let mut last = rep;
                 for _ in 0..12 {
@@ -721,22 +765,25 @@ impl Simulation {
                         c *= 10.0;
                         continue;
                     }
-                    let motion = du
-                        .iter()
-                        .zip(&anchor)
-                        .map(|(a, b)| (a - b).abs())
-                        .fold(0.0, f64::max);
+                    // the motion of the step, from its start
+                    let motion = self.largest_motion(&du);
                     last = r;
                     if motion <= limit {
+                        limited = true;
                         break;
                     }
                     c *= (1.2 * motion / limit).max(2.0);
+                }
+                if !limited && last.converged {
+                    // no inertia held the step within the limit: a shorter step
+                    last.converged = false;
+                    last.residuals.push(f64::NAN);
                 }
                 (last, false)
             }
         } else {
             // the first iterate: the last increment, scaled to this Δt
-            if self.last_dt > 0.0 && std::env::var_os("NMM_NO_PREDICTOR").is_none() {
+            if self.last_dt > 0.0 {
                 let s = dt / self.last_dt;
                 for (d, l) in du.iter_mut().zip(&self.last_du) {
                     *d = s * l;
@@ -775,6 +822,32 @@ impl Simulation {
                 detail,
                 iterations: rep.iterations,
             });
+        }
+        // A point that moved beyond the contact search: search again over the motion; if a
+        // contact found that way is closed at Δu, the step is redone with it.
+        let motion = self.largest_motion(&du);
+        if motion > OUTRUN_FRACTION * self.search_used {
+            let solved: std::collections::HashSet<_> = self
+                .contacts
+                .contacts
+                .iter()
+                .map(|c| (c.key, c.segment))
+                .collect();
+            self.detect_contacts((OUTRUN_SEARCH * motion).max(self.search_used));
+            let tol = self.contacts.touch_tolerance();
+            let found = self
+                .contacts
+                .contacts
+                .iter()
+                .filter(|c| !solved.contains(&(c.key, c.segment)) && c.gaps(&du).0 < -tol)
+                .count();
+            if found > 0 {
+                return Err(Failure::Outran {
+                    motion,
+                    iterations: rep.iterations,
+                    found,
+                });
+            }
         }
         // an element whose area would change sign: the step is too large
         if let Some(e) = self.inverted_element(&du) {
@@ -848,35 +921,9 @@ impl Simulation {
     /// The true residual norm of the static problem (L = K + P) at `du` and its physical
     /// force scale.
     fn static_merit(&mut self, rhs: &Rhs, du: &[f64]) -> (f64, f64) {
-        let covers: Vec<(usize, usize)> = if std::env::var_os("NMM_DEBUG_STATIC").is_some() {
-            self.disc
-                .covers
-                .iter()
-                .filter_map(|c| c.dof.map(|d| (d, c.block)))
-                .collect()
-        } else {
-            Vec::new()
-        };
         self.with_system(rhs, 0.0, None, |sys, _| {
             let mut r = vec![0.0; du.len()];
             crate::solver::PiecewiseSystem::residual(sys, du, &mut r);
-            if !covers.is_empty() {
-                let mut idx: Vec<usize> = (0..r.len()).collect();
-                idx.sort_by(|a, b| r[*b].abs().total_cmp(&r[*a].abs()));
-                let top: Vec<String> = idx
-                    .iter()
-                    .take(6)
-                    .map(|&i| {
-                        let b = covers
-                            .iter()
-                            .find(|(d, _)| *d == i - i % 2)
-                            .map(|x| x.1)
-                            .unwrap_or(usize::MAX);
-                        format!("dof {i} block {b}: {:.2e}", r[i])
-                    })
-                    .collect();
-                eprintln!("  largest residuals: {}", top.join("; "));
-            }
             (
                 r.iter().map(|v| v * v).sum::<f64>().sqrt(),
                 crate::solver::PiecewiseSystem::force_scale(sys),
@@ -994,12 +1041,6 @@ impl Simulation {
                 continue;
             }
             let (m, scale) = self.static_merit(rhs, du);
-            if std::env::var_os("NMM_DEBUG_STATIC").is_some() {
-                eprintln!(
-                    "static continuation: sigma {sigma:.3e} inner its {} merit {m:.3e} (scale {scale:.3e})",
-                    rep.iterations
-                );
-            }
             if m <= tolerance * scale {
                 total.converged = true;
                 total.residuals.push(m);
@@ -1228,18 +1269,6 @@ impl Simulation {
         }
         let net = e.total() - e.external_work;
         e.max = e.max.max(net);
-        if std::env::var_os("NMM_DEBUG_ENERGY").is_some() {
-            eprintln!(
-                "energy step {}: total {:.4e} (kinetic {:.3e} elastic {:.3e} gravity {:.3e} contact {:.3e} penalty {:.3e})",
-                self.step + 1,
-                net,
-                e.kinetic,
-                e.elastic,
-                e.gravity,
-                e.contact,
-                e.penalty
-            );
-        }
         for c in [
             e.kinetic,
             e.elastic,
@@ -1299,5 +1328,25 @@ enum Failure {
         detail: String,
         iterations: usize,
     },
+    /// The converged increment moves a point farther than the contacts were searched for
+    /// at the start of the step allows ([`OUTRUN_FRACTION`]), and a contact found by a
+    /// search over its motion is closed at the increment: a vertex passed through an edge
+    /// that was never looked at.
+    Outran {
+        motion: f64,
+        iterations: usize,
+        /// contacts the wider search added
+        found: usize,
+    },
     OutOfMemory(String),
 }
+
+/// A step may move no point farther than this fraction of the contact search distance
+/// used at its start: two blocks approaching each other close the distance twice as fast.
+pub const OUTRUN_FRACTION: f64 = 0.5;
+
+/// Times a step that outran its contact search (and closed a contact found by a search
+/// over [`OUTRUN_SEARCH`] × its motion) is redone with those contacts before Δt is cut.
+const OUTRUN_RETRIES: usize = 3;
+/// Search distance of a redone step, as a multiple of the motion that outran the search.
+const OUTRUN_SEARCH: f64 = 3.0;

@@ -31,7 +31,10 @@ pub trait RunObserver {
     fn start(&mut self, _step: usize, _total_steps: usize) {}
     /// A step was completed: `step` steps done, simulated time `time`.
     fn step_done(&mut self, _step: usize, _time: f64) {}
-    /// One line of information (e.g. a step cut).
+    /// The run's counters so far, after each step: linear solves (every Newton iteration,
+    /// failed attempts included), Δt cuts and contact active-set changes.
+    fn counts(&mut self, _solves: usize, _cuts: usize, _active_set_changes: usize) {}
+    /// One line of information.
     fn message(&mut self, _line: &str) {}
     /// A warning about the model ([`Simulation::warnings`]), one line, before the first step.
     fn warning(&mut self, _line: &str) {}
@@ -139,6 +142,48 @@ pub struct RunSummary {
 }
 
 impl RunSummary {
+    /// One line on the Δt cuts of the run, if any: how many steps, which (the first ten),
+    /// how many cuts.
+    pub fn cut_line(&self) -> Option<String> {
+        if self.cut_steps.is_empty() {
+            return None;
+        }
+        let cuts: usize = self.cut_steps.iter().map(|c| c.1).sum();
+        let mut which: Vec<String> = self
+            .cut_steps
+            .iter()
+            .take(10)
+            .map(|c| c.0.to_string())
+            .collect();
+        if self.cut_steps.len() > 10 {
+            which.push("…".into());
+        }
+        Some(format!(
+            "Δt was cut {cuts} time(s) in {} step(s) to converge ({:.2}% of the steps): step {}",
+            self.cut_steps.len(),
+            100.0 * self.cut_steps.len() as f64 / self.steps.max(1) as f64,
+            which.join(", ")
+        ))
+    }
+
+    /// Static mode: one line if some steps ended without equilibrium (a mechanism: each
+    /// such step's motion was limited and the mechanism developed step by step).
+    pub fn equilibrium_line(&self) -> Option<String> {
+        if !self.static_mode || self.not_in_equilibrium == 0 {
+            return None;
+        }
+        Some(format!(
+            "not in equilibrium: {} of {} static step(s) found no equilibrium (a mechanism; the motion of each was limited), {}",
+            self.not_in_equilibrium,
+            self.steps,
+            if self.last_equilibrium {
+                "the last step did"
+            } else {
+                "nor did the last step: the model is not at rest"
+            }
+        ))
+    }
+
     /// summary.json: every key is documented in `docs/outputs.md`; times in s.
     pub fn to_json(&self) -> Value {
         let mut sorted = self.solves.clone();
@@ -566,11 +611,8 @@ fn step_to_end(
             }
         };
         if rep.cuts > 0 {
+            // one line for all of them at the end (RunSummary::cut_line), not one per cut
             summary.cut_steps.push((sim.step, rep.cuts));
-            progress.message(&format!(
-                "step {}: Δt cut {} time(s) to {:.3e} s to converge",
-                sim.step, rep.cuts, rep.dt
-            ));
         }
         summary.iterations.push(rep.iterations);
         summary.solves.push(rep.solves);
@@ -600,6 +642,11 @@ fn step_to_end(
         }
         summary.output_time += t_out.elapsed();
         progress.step_done(sim.step, sim.time);
+        progress.counts(
+            summary.solves.iter().sum(),
+            summary.cut_steps.iter().map(|c| c.1).sum(),
+            summary.active_set_changes,
+        );
         if interrupted {
             summary.interrupted = true;
             break;

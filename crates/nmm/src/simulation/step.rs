@@ -167,12 +167,6 @@ impl TangentOperator for StepSystem<'_> {
 impl PiecewiseSystem for StepSystem<'_> {
     fn choose_branches(&mut self, x: &[f64], first: bool) -> usize {
         let c = self.contacts.choose_branches(x, first);
-        if std::env::var_os("NMM_DEBUG_BRANCHES").is_some() {
-            eprintln!(
-                "branches (first {first}): {:?}, changed {c}",
-                self.contacts.counts()
-            );
-        }
         c
     }
 

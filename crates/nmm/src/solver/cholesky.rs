@@ -80,18 +80,6 @@ impl Cholesky {
                 e => SolveError::Other(format!("{e:?}")),
             })?;
             let len = s.len_val();
-            if std::env::var_os("NMM_DEBUG_LINEAR").is_some() {
-                eprintln!(
-                    "cholesky symbolic: n {} nnz(A) {} nnz(L) {} supernodal {}",
-                    a.pattern.n,
-                    a.pattern.nnz(),
-                    len,
-                    matches!(
-                        s.raw(),
-                        faer::sparse::linalg::cholesky::SymbolicCholeskyRaw::Supernodal(_)
-                    )
-                );
-            }
             self.values.clear();
             self.values
                 .try_reserve_exact(len)
@@ -105,7 +93,6 @@ impl Cholesky {
             self.pattern = Some(a.pattern.clone());
             self.symbolic_count += 1;
         }
-        let t_num = std::time::Instant::now();
         let s = self.symbolic.as_ref().expect("symbolic analysis");
         let work = self.factor_work.as_mut().expect("workspace");
         s.factorize_numeric_llt::<f64>(
@@ -118,12 +105,6 @@ impl Cholesky {
             Default::default(),
         )
         .map_err(|_| SolveError::NotPositiveDefinite)?;
-        if std::env::var_os("NMM_DEBUG_LINEAR").is_some() {
-            eprintln!(
-                "cholesky numeric: {:.2} ms",
-                t_num.elapsed().as_secs_f64() * 1e3
-            );
-        }
         self.numeric_count += 1;
         self.valid = true;
         Ok(())
@@ -137,7 +118,6 @@ impl Cholesky {
         let s = self.symbolic.as_ref().expect("symbolic analysis");
         let l = LltRef::<'_, usize, f64>::new(s, &self.values);
         let n = b.len();
-        let t_s = std::time::Instant::now();
         let work = self.solve_work.as_mut().expect("workspace");
         l.solve_in_place_with_conj(
             Conj::No,
@@ -145,12 +125,6 @@ impl Cholesky {
             Par::Seq,
             MemStack::new(work),
         );
-        if std::env::var_os("NMM_DEBUG_SOLVE").is_some() {
-            eprintln!(
-                "cholesky solve: {:.3} ms",
-                t_s.elapsed().as_secs_f64() * 1e3
-            );
-        }
         if b.iter().all(|v| v.is_finite()) {
             Ok(())
         } else {

@@ -244,11 +244,6 @@ pub fn solve_piecewise(
         // block whose contacts all slide or open, held only by the regularisation); σ is
         // raised so that this mode moves about `max_step`, and the direction recomputed.
         let dmax = sys.step_size(&d);
-        if std::env::var_os("NMM_DEBUG_BRANCHES").is_some() {
-            eprintln!(
-                "  direction: |rb| {rbn:.3e} |d|inf {dmax:.3e} rtol {rtol:.1e} sigma {sigma:.2e}"
-            );
-        }
         if dmax > opts.max_step && rep.iterations < opts.max_iterations {
             let base = if sigma > 0.0 { sigma } else { sigma0 };
             sigma = base * (10.0 * dmax / opts.max_step).clamp(10.0, 1e12);
@@ -267,14 +262,6 @@ pub fn solve_piecewise(
             let inc = sys.residual(&trial, &mut rt);
             rep.times.contact += t.elapsed();
             let pt = norm(&rt);
-            if std::env::var_os("NMM_DEBUG_BRANCHES").is_some() {
-                eprintln!(
-                    "  it {} alpha {alpha:.3e}: merit {phi:.3e} (best {phi_best:.3e}) -> {pt:.3e} (scale {:.3e}), inconsistent {inc}, sigma {sigma:.2e}{}",
-                    rep.iterations,
-                    sys.force_scale(),
-                    if monotone { ", monotone" } else { "" }
-                );
-            }
             let decrease = pt.is_finite() && pt <= (1.0 - ARMIJO * alpha) * phi_best;
             let provisional_ok = !monotone
                 && pt.is_finite()

@@ -148,13 +148,6 @@ impl TangentSolver {
         self.stats.factorisation_time += dt;
         self.stats.factorisations += 1;
         self.stats.symbolic_analyses += self.chol.symbolic_count - before;
-        if std::env::var_os("NMM_DEBUG_LINEAR").is_some() {
-            eprintln!(
-                "refresh: {:.2} ms (symbolic {})",
-                dt.as_secs_f64() * 1e3,
-                self.chol.symbolic_count - before
-            );
-        }
         self.refresh = false;
         r
     }
@@ -183,16 +176,6 @@ impl TangentSolver {
             max_iter,
         );
         let dt = t.elapsed();
-        if std::env::var_os("NMM_DEBUG_LINEAR").is_some() {
-            eprintln!(
-                "gmres: {:.2} ms, {} iterations (max {max_iter}), rel {:.2e}, converged {}, symmetric {}",
-                dt.as_secs_f64() * 1e3,
-                rep.iterations,
-                rep.relative_residual,
-                rep.converged,
-                op.is_symmetric()
-            );
-        }
         self.stats.solve_time += dt;
         self.stats.gmres_iterations += rep.iterations;
 

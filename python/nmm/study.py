@@ -222,9 +222,10 @@ def run(
     LocalCluster for this study and closes it after: ``n_workers`` runs at once (default:
     the CPU count), as threads of one worker in this process (runs release the GIL), or
     with ``processes=True`` as single-threaded worker processes (isolated from each other;
-    a script then needs the ``if __name__ == "__main__":`` guard that multiprocessing asks). ``out``: the study folder; run NAME writes ``out/NAME/``. ``vtk``: also
-    write VTK frames. ``rerun``: run even what is complete and unchanged. ``progress``: one
-    line on stderr per finished run (``[3/40] NAME ok 12.3 s``).
+    a script then needs the ``if __name__ == "__main__":`` guard that multiprocessing asks).
+    ``out``: the study folder; run NAME writes ``out/NAME/``. ``vtk``: also write VTK
+    frames. ``rerun``: run even what is complete and unchanged. ``progress``: one line on
+    stderr per finished run (``[3/40] NAME ok 12.3 s``).
 
     Columns: status ("ok", "error" or "skipped"), error (the one-line message), out, steps,
     time, unknowns, iterations (total Newton iterations), iterations_max, cuts (Δt cuts),

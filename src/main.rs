@@ -35,6 +35,24 @@ enum Command {
         /// Do not print the model's warnings (they stay in DIR/summary.json).
         #[arg(long)]
         quiet: bool,
+        /// Also write a checkpoint every N steps (checkpoints are always written at the end
+        /// of each stage and on Ctrl-C), in DIR/checkpoints.
+        #[arg(long, value_name = "N")]
+        checkpoint_every: Option<usize>,
+        /// Start from a checkpoint of another run (DIR/checkpoints/step_NNNNNNNN.ckpt):
+        /// the model's later stages run from that saved state. Its blocks, joints, cover,
+        /// materials and stages up to the checkpoint must be those of the saved run.
+        #[arg(long, value_name = "CHECKPOINT")]
+        from: Option<PathBuf>,
+    },
+    /// Continue an interrupted (or finished) run in DIR from its latest checkpoint, with
+    /// the options it was started with; its outputs continue as if it had not stopped.
+    Resume {
+        #[arg(value_name = "DIR")]
+        dir: PathBuf,
+        /// Do not print the model's warnings.
+        #[arg(long)]
+        quiet: bool,
     },
     /// Validate a model and print a summary (blocks, covers, elements, unknowns) without running it.
     Check {
@@ -71,7 +89,18 @@ fn main() -> ExitCode {
             friction,
             no_vtk,
             quiet,
-        } => run(&model, &out, friction.as_deref(), !no_vtk, quiet),
+            checkpoint_every,
+            from,
+        } => run(
+            &model,
+            &out,
+            friction.as_deref(),
+            !no_vtk,
+            quiet,
+            checkpoint_every.unwrap_or(0),
+            from.as_deref(),
+        ),
+        Command::Resume { dir, quiet } => resume(&dir, quiet),
         Command::Check { model, json, quiet } => check(&model, json, quiet),
         Command::Verify { out, full } => verify(&out, full),
         Command::Figures { out } => figures(&out),
@@ -126,7 +155,8 @@ fn cutting_line(m: &nmm::model::Model) -> Option<String> {
 
 fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
     let model = nmm::model::load_model(path)?;
-    let sim = nmm::simulation::Simulation::new(model).map_err(anyhow::Error::msg)?;
+    let sim = nmm::simulation::Simulation::new(model)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     if !quiet {
         for w in sim.warnings() {
             eprintln!("warning: {w}");
@@ -165,10 +195,24 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
             );
         }
     }
-    println!(
-        "analysis: {:?}, dt = {} s, {} steps, friction {:?}",
-        m.analysis.mode, m.analysis.dt, m.analysis.steps, m.analysis.friction
-    );
+    if m.stages.is_empty() {
+        println!(
+            "analysis: {:?}, dt = {} s, {} steps, friction {:?}",
+            m.analysis.mode, m.analysis.dt, m.analysis.steps, m.analysis.friction
+        );
+    }
+    for st in &m.stages {
+        let a = &st.analysis;
+        println!(
+            "stage \"{}\": {:?}, dt = {} s, {} steps, friction {:?}{}",
+            st.name,
+            a.mode,
+            a.dt,
+            a.steps,
+            a.friction,
+            if st.base_motion { ", base motion" } else { "" }
+        );
+    }
     let mut covers = vec![0usize; m.blocks.len()];
     for c in &sim.disc.covers {
         covers[c.block] += 1;
@@ -185,23 +229,119 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// The `--friction` value.
+fn friction_override(f: Option<&str>) -> anyhow::Result<Option<nmm::model::FrictionAlgorithm>> {
+    Ok(match f {
+        None => None,
+        Some("return-mapping") => Some(nmm::model::FrictionAlgorithm::ReturnMapping),
+        Some("conventional") => Some(nmm::model::FrictionAlgorithm::Conventional),
+        Some(other) => anyhow::bail!(
+            "--friction: expected \"return-mapping\" or \"conventional\", got \"{other}\""
+        ),
+    })
+}
+
+/// Loads a model with the `--friction` override applied to `[analysis]` and every stage.
+fn load(
+    path: &Path,
+    friction: Option<nmm::model::FrictionAlgorithm>,
+) -> anyhow::Result<nmm::model::Model> {
+    let mut model = nmm::model::load_model(path)?;
+    if let Some(f) = friction {
+        model.analysis.friction = f;
+        for s in model.stages.iter_mut() {
+            s.analysis.friction = f;
+        }
+    }
+    Ok(model)
+}
+
 fn run(
     path: &Path,
     out: &Path,
     friction: Option<&str>,
     vtk: bool,
     quiet: bool,
+    checkpoint_every: usize,
+    from: Option<&Path>,
 ) -> anyhow::Result<ExitCode> {
-    let mut model = nmm::model::load_model(path)?;
-    if let Some(f) = friction {
-        model.analysis.friction = match f {
-            "return-mapping" => nmm::model::FrictionAlgorithm::ReturnMapping,
-            "conventional" => nmm::model::FrictionAlgorithm::Conventional,
-            other => anyhow::bail!(
-                "--friction: expected \"return-mapping\" or \"conventional\", got \"{other}\""
-            ),
-        };
+    let friction = friction_override(friction)?;
+    let model = load(path, friction)?;
+    let start = match from {
+        None => nmm::simulation::Start::Fresh,
+        Some(c) => {
+            let ckpt =
+                nmm::simulation::checkpoint::Checkpoint::read(c).map_err(anyhow::Error::msg)?;
+            let diff = ckpt.differences(&model);
+            if !diff.is_empty() {
+                anyhow::bail!(
+                    "{}: cannot start from {}: the model differs in {} (a branch keeps the saved run's blocks, joints, cover, materials and stages up to the checkpoint)",
+                    path.display(),
+                    c.display(),
+                    diff.join(", ")
+                );
+            }
+            nmm::simulation::Start::Branch(Box::new(ckpt))
+        }
+    };
+    let opts = nmm::simulation::RunOptions {
+        interrupt: None,
+        vtk,
+        model_path: Some(path.to_path_buf()),
+        checkpoint_every,
+        friction,
+        start,
+    };
+    execute(model, path, out, opts, quiet)
+}
+
+fn resume(dir: &Path, quiet: bool) -> anyhow::Result<ExitCode> {
+    use nmm::simulation::checkpoint::Checkpoint;
+    let Some(c) = nmm::simulation::latest_checkpoint(dir) else {
+        anyhow::bail!(
+            "{}: no checkpoint to resume from (checkpoints/ is written at the end of each stage, on Ctrl-C and with --checkpoint-every)",
+            dir.display()
+        );
+    };
+    let ckpt = Checkpoint::read(&c).map_err(anyhow::Error::msg)?;
+    let path = PathBuf::from(&ckpt.model_path);
+    let model = load(&path, ckpt.options.friction)
+        .with_context(|| format!("{}: the run's model", c.display()))?;
+    if !ckpt.is_of_model(&model) {
+        anyhow::bail!(
+            "{}: a checkpoint of another model: {} is not the model it was written from (start a changed model from it with `nmm run MODEL --from {}`)",
+            c.display(),
+            path.display(),
+            c.display()
+        );
     }
+    if !quiet {
+        eprintln!(
+            "resuming {} from step {} (t = {} s)",
+            dir.display(),
+            ckpt.step,
+            ckpt.time
+        );
+    }
+    let opts = nmm::simulation::RunOptions {
+        interrupt: None,
+        vtk: ckpt.options.vtk,
+        model_path: Some(path.clone()),
+        checkpoint_every: ckpt.options.checkpoint_every,
+        friction: ckpt.options.friction,
+        start: nmm::simulation::Start::Resume(Box::new(ckpt)),
+    };
+    execute(model, &path, dir, opts, quiet)
+}
+
+/// Runs `model` with `opts` (a Ctrl-C handler added), printing the bar and the summary.
+fn execute(
+    model: nmm::model::Model,
+    path: &Path,
+    out: &Path,
+    mut opts: nmm::simulation::RunOptions,
+    quiet: bool,
+) -> anyhow::Result<ExitCode> {
     if let Some(line) = cutting_line(&model) {
         eprintln!("{line}");
         if !model.cracks.is_empty() {
@@ -221,12 +361,13 @@ fn run(
             }
         });
     }
-    let opts = nmm::simulation::RunOptions {
-        interrupt: Some(stop),
-        vtk,
-        model_path: Some(path.to_path_buf()),
+    opts.interrupt = Some(stop);
+    let total = if model.stages.is_empty() {
+        model.analysis.steps
+    } else {
+        model.stages.iter().map(|s| s.analysis.steps).sum()
     };
-    let mut bar = progress::Progress::new(model.analysis.steps, true).quiet(quiet);
+    let mut bar = progress::Progress::new(total, true).quiet(quiet);
     let summary = nmm::simulation::run_observed(model, out, &opts, &mut bar)
         .with_context(|| format!("{}", path.display()))?;
     let t = summary.timings;
@@ -235,7 +376,7 @@ fn run(
     sorted.sort_unstable();
     let median = sorted.get(sorted.len() / 2).copied().unwrap_or(0);
     eprintln!(
-        "{} steps to t = {:.6} s, {} unknowns; Newton iterations median {median}, max {}; {} step(s) cut",
+        "{} steps to t = {} s, {} unknowns; Newton iterations median {median}, max {}; {} step(s) cut",
         summary.steps,
         summary.time,
         summary.n_dofs,
@@ -264,8 +405,9 @@ fn run(
     }
     if summary.interrupted {
         eprintln!(
-            "interrupted at step {}: outputs so far are in {}",
+            "interrupted at step {}: outputs so far are in {}; continue with `nmm resume {}`",
             summary.steps,
+            out.display(),
             out.display()
         );
         return Ok(ExitCode::from(130));

@@ -792,6 +792,9 @@ impl Model {
         let mut cols = vec!["step".to_string(), "time".to_string()];
         cols.extend(nmm::simulation::history_columns(&self.model));
         cols.push("iterations".into());
+        if !self.model.stages.is_empty() {
+            cols.push("stage".into());
+        }
         cols
     }
 
@@ -828,7 +831,9 @@ fn check<'py>(py: Python<'py>, model: &Bound<'py, Model>) -> PyResult<Bound<'py,
     let source = m.source.clone();
     let v = py
         .detach(move || {
-            nmm::simulation::Simulation::new(inner).map(|sim| nmm::check::check_json(&sim, &source))
+            nmm::simulation::Simulation::new(inner)
+                .map(|sim| nmm::check::check_json(&sim, &source))
+                .map_err(|e| format!("{source}: {e}"))
         })
         .map_err(model_error)?;
     json_to_py(py, &v)
@@ -890,11 +895,16 @@ fn run_into<'py>(
 ) -> PyResult<(Bound<'py, PyAny>, bool)> {
     let m = model.borrow();
     let inner = m.model.clone();
+    // the model file, for summary.json and checkpoints (`nmm resume` reads it again), only
+    // while it is what this model was made from (not after changes made in Python)
+    let model_path = (m.source != "<string>" && m.source != "<dict>")
+        .then(|| PathBuf::from(&m.source))
+        .filter(|p| std::fs::read_to_string(p).is_ok_and(|t| t == m.text));
     let opts = nmm::simulation::RunOptions {
         interrupt: Some(Arc::new(AtomicBool::new(false))),
         vtk,
-        model_path: (m.source != "<string>" && m.source != "<dict>")
-            .then(|| PathBuf::from(&m.source)),
+        model_path,
+        ..nmm::simulation::RunOptions::new()
     };
     let stop = opts.interrupt.clone().expect("set above");
     {
@@ -974,7 +984,8 @@ fn run_into<'py>(
             }
             Ok((json_to_py(py, &summary.to_json())?, interrupted))
         }
-        Err(nmm::simulation::RunError::Setup(e)) => Err(model_error(e)),
+        // a model that cannot be discretised: named as `nmm check` names it
+        Err(nmm::simulation::RunError::Setup(e)) => Err(model_error(format!("{}: {e}", m.source))),
         Err(e) => Err(RunError::new_err(one_line(&e.to_string()))),
     }
 }

@@ -7,7 +7,7 @@ use serde_json::{json, Value};
 /// The summary of `nmm check --json`: `model` (the source named by `model`), `blocks`,
 /// `fixed_blocks`, `cut_blocks`, `joints`, `cracks`, `merged_pieces`, `enclosed_pieces`,
 /// `physical_covers`, `manifold_elements`, `unknowns`, `block_area_total`,
-/// `smallest_block_area`, `smallest_block`, in that order.
+/// `smallest_block_area`, `smallest_block`, `stages` (the `[[stage]]` names), in that order.
 pub fn check_json(sim: &Simulation, model: &str) -> Value {
     let m = &sim.model;
     let areas: Vec<f64> = m
@@ -32,6 +32,7 @@ pub fn check_json(sim: &Simulation, model: &str) -> Value {
         "block_area_total": total,
         "smallest_block_area": smallest,
         "smallest_block": m.blocks.get(smallest_at).map(|b| b.name.as_str()),
+        "stages": m.stages.iter().map(|st| st.name.as_str()).collect::<Vec<_>>(),
     })
 }
 

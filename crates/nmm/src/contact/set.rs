@@ -63,6 +63,9 @@ use crate::model::{FrictionAlgorithm, Model};
 use crate::solver::SparsePattern;
 use std::collections::HashMap;
 
+mod saved;
+pub use saved::SavedContacts;
+
 /// Unknowns a contact couples: those of the vertex's element and of the edge's element.
 pub const CONTACT_DOFS: usize = 2 * ELEMENT_DOFS;
 

@@ -137,9 +137,9 @@ mod tests {
             // λ reproduces the node from the root's nodes: linear fields satisfy the tie
             let r = d.elements.iter().find(|e| e.covers == t.roots).unwrap();
             let node = d.mesh.node(d.covers[t.cover].node);
-            for (c, &xc) in node.iter().enumerate() {
+            for (c, &nc) in node.iter().enumerate() {
                 let x: f64 = (0..3).map(|j| t.lambda[j] * r.nodes[j][c]).sum();
-                assert!((x - xc).abs() < 1e-12);
+                assert!((x - nc).abs() < 1e-12);
             }
             assert!((t.lambda.iter().sum::<f64>() - 1.0).abs() < 1e-12);
         }

@@ -336,6 +336,19 @@ pub struct Model {
     pub enclosed: Vec<MergedPiece>,
     /// `[cover] min_block_area` (m²), if given.
     pub min_block_area: Option<f64>,
+    /// `[[stage]]` tables in file order (empty: the model is one stage, `analysis`).
+    pub stages: Vec<Stage>,
+}
+
+/// One `[[stage]]`: a part of the analysis with its own keys (those it does not set come
+/// from `[analysis]`). `step` and `time` continue across stages.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stage {
+    pub name: String,
+    /// The stage's analysis keys, resolved.
+    pub analysis: Analysis,
+    /// The base-motion record applies in this stage, its t = 0 at the stage's start.
+    pub base_motion: bool,
 }
 
 impl Model {

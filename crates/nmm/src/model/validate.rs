@@ -45,6 +45,7 @@ const TOP_KEYS: &[&str] = &[
     "monitor",
     "joint_set",
     "joint",
+    "stage",
 ];
 
 /// What the names of blocks in the model file stand for after cutting.
@@ -93,7 +94,7 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
             root.at_top(k)
         )));
     }
-    let analysis = analysis(root)?;
+    let (analysis, stages) = analysis_and_stages(root, root.contains_key("base_motion"))?;
     let cov = cover(root)?;
     let materials = materials(root)?;
     let mut blocks = blocks(root, &materials)?;
@@ -136,6 +137,7 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
         merged: cutting.merged,
         enclosed: cutting.enclosed,
         min_block_area: cov.min_block_area,
+        stages,
     })
 }
 
@@ -184,65 +186,189 @@ fn choice<'a>(f: &Fields, key: &str, allowed: &[&'a str], default: &'a str) -> R
     }
 }
 
-fn analysis(root: &Doc) -> R<Analysis> {
-    let t = table(root, "analysis")?
-        .ok_or_else(|| error("[analysis]: missing table (keys `dt` and `steps` are required)"))?;
-    let f = root.fields("[analysis]", t, "analysis", None);
-    f.deny_unknown(&[
-        "mode",
-        "dt",
-        "steps",
-        "gravity",
-        "friction",
-        "output_every",
-        "max_iterations",
-        "tolerance",
-        "max_step_cuts",
-        "constraint_penalty",
-    ])?;
-    let mode = match choice(&f, "mode", &["dynamic", "static"], "dynamic")? {
-        "static" => Mode::Static,
-        _ => Mode::Dynamic,
+/// The `[analysis]` keys a `[[stage]]` may also set.
+const ANALYSIS_KEYS: &[&str] = &[
+    "mode",
+    "dt",
+    "steps",
+    "gravity",
+    "friction",
+    "output_every",
+    "max_iterations",
+    "tolerance",
+    "max_step_cuts",
+    "constraint_penalty",
+];
+
+/// The analysis keys written in one table (`[analysis]` or a `[[stage]]`), each checked.
+#[derive(Default)]
+struct AnalysisKeys {
+    mode: Option<Mode>,
+    dt: Option<f64>,
+    steps: Option<usize>,
+    gravity: Option<Vec2>,
+    friction: Option<FrictionAlgorithm>,
+    output_every: Option<usize>,
+    max_iterations: Option<usize>,
+    tolerance: Option<f64>,
+    max_step_cuts: Option<usize>,
+    constraint_penalty: Option<f64>,
+}
+
+fn analysis_keys(f: &Fields) -> R<AnalysisKeys> {
+    let opt_count = |key: &str, min: i64| -> R<Option<usize>> {
+        if f.has(key) {
+            count(f, key, 0, min).map(Some)
+        } else {
+            Ok(None)
+        }
     };
-    let dt = positive(&f, "dt", f.req("dt", number)?)?;
-    let steps = match f.req("steps", integer)? {
-        n if n <= 0 => return Err(f.err("steps", format!("must be positive, got {n}"))),
-        n => usize::try_from(n).map_err(|_| f.err("steps", format!("out of range, got {n}")))?,
+    let mode = if f.has("mode") {
+        Some(
+            match choice(f, "mode", &["dynamic", "static"], "dynamic")? {
+                "static" => Mode::Static,
+                _ => Mode::Dynamic,
+            },
+        )
+    } else {
+        None
     };
-    let gravity = f.opt("gravity", pair)?.unwrap_or([0.0, 0.0]);
-    let friction = match choice(
-        &f,
-        "friction",
-        &["return-mapping", "conventional"],
-        "return-mapping",
-    )? {
-        "conventional" => FrictionAlgorithm::Conventional,
-        _ => FrictionAlgorithm::ReturnMapping,
+    let dt = match f.opt("dt", number)? {
+        Some(x) => Some(positive(f, "dt", x)?),
+        None => None,
     };
-    let output_every = count(&f, "output_every", 1, 1)?;
-    let max_iterations = count(&f, "max_iterations", 25, 1)?;
-    let max_step_cuts = count(&f, "max_step_cuts", 6, 0)?;
-    let tolerance = f.opt("tolerance", number)?.unwrap_or(DEFAULT_TOLERANCE);
-    if !(tolerance > 0.0 && tolerance < 1.0) {
-        return Err(f.err(
-            "tolerance",
-            format!("must be in (0, 1), got {}", fmt_num(tolerance)),
-        ));
+    let steps = match f.opt("steps", integer)? {
+        None => None,
+        Some(n) if n <= 0 => return Err(f.err("steps", format!("must be positive, got {n}"))),
+        Some(n) => {
+            Some(usize::try_from(n).map_err(|_| f.err("steps", format!("out of range, got {n}")))?)
+        }
+    };
+    let gravity = f.opt("gravity", pair)?;
+    let friction = if f.has("friction") {
+        Some(
+            match choice(
+                f,
+                "friction",
+                &["return-mapping", "conventional"],
+                "return-mapping",
+            )? {
+                "conventional" => FrictionAlgorithm::Conventional,
+                _ => FrictionAlgorithm::ReturnMapping,
+            },
+        )
+    } else {
+        None
+    };
+    let tolerance = f.opt("tolerance", number)?;
+    if let Some(tolerance) = tolerance {
+        if !(tolerance > 0.0 && tolerance < 1.0) {
+            return Err(f.err(
+                "tolerance",
+                format!("must be in (0, 1), got {}", fmt_num(tolerance)),
+            ));
+        }
     }
-    let constraint_penalty = f.opt("constraint_penalty", number)?.unwrap_or(1e6);
-    positive(&f, "constraint_penalty", constraint_penalty)?;
-    Ok(Analysis {
+    let constraint_penalty = match f.opt("constraint_penalty", number)? {
+        Some(x) => Some(positive(f, "constraint_penalty", x)?),
+        None => None,
+    };
+    Ok(AnalysisKeys {
         mode,
         dt,
         steps,
         gravity,
         friction,
-        output_every,
-        max_iterations,
+        output_every: opt_count("output_every", 1)?,
+        max_iterations: opt_count("max_iterations", 1)?,
         tolerance,
-        max_step_cuts,
+        max_step_cuts: opt_count("max_step_cuts", 0)?,
         constraint_penalty,
     })
+}
+
+/// `[analysis]`, and the `[[stage]]` tables with their keys resolved (unset: from
+/// `[analysis]`, else the defaults). Without stages `[analysis]` needs `dt` and `steps`;
+/// with stages, only the stages that do not set them need them there. The model's own
+/// `analysis` is then the first stage's.
+fn analysis_and_stages(root: &Doc, has_base_motion: bool) -> R<(Analysis, Vec<Stage>)> {
+    let tables = array_of_tables(root, "stage")?;
+    let t = table(root, "analysis")?;
+    let base = match t {
+        Some(t) => {
+            let f = root.fields("[analysis]", t, "analysis", None);
+            f.deny_unknown(ANALYSIS_KEYS)?;
+            if tables.is_empty() {
+                f.req("dt", number)?;
+                f.req("steps", integer)?;
+            }
+            analysis_keys(&f)?
+        }
+        None if tables.is_empty() => {
+            return Err(error(
+                "[analysis]: missing table (keys `dt` and `steps` are required)",
+            ))
+        }
+        None => AnalysisKeys::default(),
+    };
+    let resolve = |k: &AnalysisKeys, f: Option<&Fields>| -> R<Analysis> {
+        let missing = |key: &str| match f {
+            Some(f) => f.err(key, "missing (set it here or in [analysis])"),
+            None => error(format!("[analysis]: key `{key}`: missing (required)")),
+        };
+        Ok(Analysis {
+            mode: k.mode.or(base.mode).unwrap_or(Mode::Dynamic),
+            dt: k.dt.or(base.dt).ok_or_else(|| missing("dt"))?,
+            steps: k.steps.or(base.steps).ok_or_else(|| missing("steps"))?,
+            gravity: k.gravity.or(base.gravity).unwrap_or([0.0, 0.0]),
+            friction: k
+                .friction
+                .or(base.friction)
+                .unwrap_or(FrictionAlgorithm::ReturnMapping),
+            output_every: k.output_every.or(base.output_every).unwrap_or(1),
+            max_iterations: k.max_iterations.or(base.max_iterations).unwrap_or(25),
+            tolerance: k.tolerance.or(base.tolerance).unwrap_or(DEFAULT_TOLERANCE),
+            max_step_cuts: k.max_step_cuts.or(base.max_step_cuts).unwrap_or(6),
+            constraint_penalty: k
+                .constraint_penalty
+                .or(base.constraint_penalty)
+                .unwrap_or(1e6),
+        })
+    };
+    let mut stages: Vec<Stage> = Vec::new();
+    for (i, t) in tables.into_iter().enumerate() {
+        let mut f = root.fields(format!("[[stage]] #{}", i + 1), t, "stage", Some(i));
+        let name = f.name("name")?;
+        f.set_place(format!("[[stage]] {name:?}"));
+        let mut allowed = vec!["name", "base_motion"];
+        allowed.extend(ANALYSIS_KEYS);
+        f.deny_unknown(&allowed)?;
+        if let Some(k) = stages.iter().position(|s| s.name == name) {
+            return Err(f.err(
+                "name",
+                format!("duplicate stage name (also [[stage]] #{})", k + 1),
+            ));
+        }
+        let base_motion = f.opt("base_motion", boolean)?.unwrap_or(false);
+        if base_motion && !has_base_motion {
+            return Err(f.err(
+                "base_motion",
+                "is true but the model has no [base_motion] record",
+            ));
+        }
+        let keys = analysis_keys(&f)?;
+        let analysis = resolve(&keys, Some(&f))?;
+        stages.push(Stage {
+            name,
+            analysis,
+            base_motion,
+        });
+    }
+    let analysis = match stages.first() {
+        Some(s) => s.analysis.clone(),
+        None => resolve(&base, None)?,
+    };
+    Ok((analysis, stages))
 }
 
 fn cover(root: &Doc) -> R<CoverKeys> {

@@ -49,6 +49,8 @@ pub struct HistoryWriter {
     rows: usize,
     non_finite: usize,
     field: String,
+    /// A text column after `iterations` (e.g. `stage`), if any.
+    text_column: bool,
 }
 
 impl HistoryWriter {
@@ -57,6 +59,16 @@ impl HistoryWriter {
     /// Fails if the file cannot be created, or if a column is named `step`, `time` or
     /// `iterations` or appears twice (the header would then be ambiguous).
     pub fn create(path: &Path, columns: &[String]) -> io::Result<Self> {
+        Self::create_with_text(path, columns, None)
+    }
+
+    /// As [`Self::create`], with a text column `text` after `iterations` (each row then
+    /// gives its value to [`Self::write_row_text`]).
+    pub fn create_with_text(
+        path: &Path,
+        columns: &[String],
+        text: Option<&str>,
+    ) -> io::Result<Self> {
         for (i, c) in columns.iter().enumerate() {
             if c == "step" || c == "time" || c == "iterations" {
                 return Err(invalid(format!(
@@ -76,17 +88,51 @@ impl HistoryWriter {
         names.extend(["step", "time"]);
         names.extend(columns.iter().map(String::as_str));
         names.push("iterations");
+        names.extend(text);
         writer.write_record(&names)?;
         writer.flush()?;
-        Ok(Self {
+        Ok(Self::over(writer, columns.len(), text.is_some()))
+    }
+
+    /// A writer of rows of `n_values` monitor values (and a text column) onto `writer`.
+    fn over(writer: csv::Writer<File>, n_values: usize, text_column: bool) -> Self {
+        Self {
             writer,
-            n_values: columns.len(),
+            n_values,
             flush_every: DEFAULT_FLUSH_EVERY,
             rows_since_flush: 0,
             rows: 0,
             non_finite: 0,
             field: String::with_capacity(32),
-        })
+            text_column,
+        }
+    }
+
+    /// Reopens a history written by [`Self::create_with_text`] with the same columns to
+    /// append rows after its first `len` bytes (a resumed run: later rows are dropped).
+    /// Fails if the file is shorter than `len`.
+    pub fn append_after(path: &Path, columns: &[String], text: bool, len: u64) -> io::Result<Self> {
+        let file = std::fs::OpenOptions::new().write(true).open(path)?;
+        let have = file.metadata()?.len();
+        if have < len {
+            return Err(invalid(format!(
+                "has {have} bytes, fewer than the {len} written up to the checkpoint"
+            )));
+        }
+        file.set_len(len)?;
+        let mut file = file;
+        io::Seek::seek(&mut file, io::SeekFrom::End(0))?;
+        let writer = csv::WriterBuilder::new()
+            .has_headers(false)
+            .terminator(csv::Terminator::Any(b'\n'))
+            .from_writer(file);
+        Ok(Self::over(writer, columns.len(), text))
+    }
+
+    /// Bytes written to the file so far (after a flush).
+    pub fn position(&mut self) -> io::Result<u64> {
+        self.flush()?;
+        io::Seek::stream_position(&mut self.writer.get_ref())
     }
 
     /// Sets the number of rows between automatic flushes (at least 1).
@@ -108,6 +154,24 @@ impl HistoryWriter {
         values: &[f64],
         iterations: usize,
     ) -> io::Result<()> {
+        self.write_row_text(step, time, values, iterations, None)
+    }
+
+    /// As [`Self::write_row`], with the value of the text column (required when the
+    /// history has one, refused otherwise).
+    pub fn write_row_text(
+        &mut self,
+        step: usize,
+        time: f64,
+        values: &[f64],
+        iterations: usize,
+        text: Option<&str>,
+    ) -> io::Result<()> {
+        if text.is_some() != self.text_column {
+            return Err(invalid(
+                "history row: a text value exactly when the header has a text column".into(),
+            ));
+        }
         if values.len() != self.n_values {
             return Err(invalid(format!(
                 "history row has {} values, the header has {} columns",
@@ -129,6 +193,9 @@ impl HistoryWriter {
         self.field.clear();
         self.field.push_str(&iterations.to_string());
         self.writer.write_field(&self.field)?;
+        if let Some(t) = text {
+            self.writer.write_field(t)?;
+        }
         self.writer.write_record(None::<&[u8]>)?;
         self.rows += 1;
         self.rows_since_flush += 1;

@@ -615,6 +615,8 @@ fn invalid(msg: String) -> io::Error {
 pub struct PvdWriter {
     path: PathBuf,
     frames: Vec<(f64, String)>,
+    /// A name per frame (the analysis stage), written as a `name` attribute when not empty.
+    names: Vec<String>,
 }
 
 impl PvdWriter {
@@ -623,6 +625,7 @@ impl PvdWriter {
         let w = Self {
             path: path.to_path_buf(),
             frames: Vec::new(),
+            names: Vec::new(),
         };
         w.rewrite()?;
         Ok(w)
@@ -631,6 +634,12 @@ impl PvdWriter {
     /// Adds a frame at `time` whose file is `file` (relative to the `.pvd`'s folder, `/` as
     /// separator), then rewrites the collection.
     pub fn add(&mut self, time: f64, file: &str) -> io::Result<()> {
+        self.add_named(time, file, "")
+    }
+
+    /// As [`Self::add`], with a name for the frame (`name="…"` in the collection; ParaView
+    /// ignores it, scripts can read it). An empty name writes no attribute.
+    pub fn add_named(&mut self, time: f64, file: &str, name: &str) -> io::Result<()> {
         if !time.is_finite() {
             return Err(invalid(format!("frame time {time} is not finite")));
         }
@@ -638,12 +647,35 @@ impl PvdWriter {
             return Err(invalid("frame file name is empty".to_string()));
         }
         self.frames.push((time, file.to_string()));
+        self.names.push(name.to_string());
         self.rewrite()
+    }
+
+    /// Reopens the collection at `path` with `frames` (a resumed run: the frames written
+    /// up to its checkpoint) and rewrites it.
+    pub fn with_frames(
+        path: &Path,
+        frames: Vec<(f64, String)>,
+        mut names: Vec<String>,
+    ) -> io::Result<Self> {
+        names.resize(frames.len(), String::new());
+        let w = Self {
+            path: path.to_path_buf(),
+            frames,
+            names,
+        };
+        w.rewrite()?;
+        Ok(w)
     }
 
     /// The frames added so far.
     pub fn frames(&self) -> &[(f64, String)] {
         &self.frames
+    }
+
+    /// The frames' names (empty: none).
+    pub fn frame_names(&self) -> &[String] {
+        &self.names
     }
 
     /// Path of the collection file.
@@ -656,11 +688,15 @@ impl PvdWriter {
         s.push_str("<?xml version=\"1.0\"?>\n");
         s.push_str("<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n");
         s.push_str("  <Collection>\n");
-        for (time, file) in &self.frames {
+        for ((time, file), name) in self.frames.iter().zip(&self.names) {
             s.push_str("    <DataSet timestep=\"");
             super::history::format_f64(*time, &mut s);
             s.push_str("\" group=\"\" part=\"0\" file=\"");
             s.push_str(&escape(file));
+            if !name.is_empty() {
+                s.push_str("\" name=\"");
+                s.push_str(&escape(name));
+            }
             s.push_str("\"/>\n");
         }
         s.push_str("  </Collection>\n");

@@ -18,13 +18,15 @@
 //!
 //! Outputs are written by [`run`] through `outputs.rs`.
 
+pub mod checkpoint;
+pub mod memory;
 mod outputs;
 mod setup;
 
 pub use outputs::{
-    blocks_grid, contacts_grid, history_columns, monitor_values, peak_memory_bytes, run,
-    run_observed, run_simulation, write_block_table, RunError, RunObserver, RunOptions, RunStatus,
-    RunSummary, Silent,
+    blocks_grid, checkpoint_name, contacts_grid, history_columns, latest_checkpoint,
+    monitor_values, peak_memory_bytes, run, run_observed, run_simulation, write_block_table,
+    RunError, RunObserver, RunOptions, RunStatus, RunSummary, Silent, Start,
 };
 
 mod step;
@@ -165,6 +167,17 @@ impl Energy {
     pub fn total(&self) -> f64 {
         self.kinetic + self.elastic + self.gravity + self.contact + self.penalty
     }
+    /// The components and the external work, in the order of the fields.
+    pub fn components(&self) -> [f64; 6] {
+        [
+            self.kinetic,
+            self.elastic,
+            self.gravity,
+            self.contact,
+            self.penalty,
+            self.external_work,
+        ]
+    }
     /// The largest rise of the total above its start, net of the external work.
     pub fn max_rise(&self) -> f64 {
         self.max - self.initial
@@ -253,11 +266,23 @@ pub struct Simulation {
     full_steps: u64,
     /// Time already covered in the current interval by cut steps (0 on the grid).
     partial: f64,
+    /// The current `[[stage]]` (index into `model.stages`; 0 without stages). Its analysis
+    /// keys are in `model.analysis`.
+    stage: usize,
+    /// Where the base-motion record's t = 0 is on the run's clock; `None`: no base motion
+    /// in this stage.
+    base_origin: Option<f64>,
+    /// The constraint springs as set up with the first stage's `constraint_penalty`
+    /// (`penalties` are these scaled to the current stage's factor: they are linear in it).
+    penalty_base: Vec<Penalty>,
+    penalty_factor: f64,
 }
 
 impl Simulation {
     /// Discretise a validated model and prepare loads, constraints and monitors.
     pub fn new(model: Model) -> Result<Simulation, String> {
+        // refuse a model that cannot fit before any large allocation
+        memory::check_fits(&model)?;
         let t0 = Instant::now();
         let blocks: Vec<_> = model
             .blocks
@@ -330,11 +355,23 @@ impl Simulation {
             time_origin: 0.0,
             full_steps: 0,
             partial: 0.0,
+            stage: 0,
+            penalty_base: Vec::new(),
+            penalty_factor: 0.0,
+            base_origin: match model.stages.first() {
+                Some(s) => s.base_motion.then_some(0.0),
+                None => Some(0.0),
+            },
             disc,
             model,
         };
+        if let Some(s) = sim.model.stages.first() {
+            sim.model.analysis = s.analysis.clone();
+        }
         setup::loads(&mut sim)?;
         setup::constraints(&mut sim)?;
+        sim.penalty_base = sim.penalties.clone();
+        sim.penalty_factor = sim.model.analysis.constraint_penalty;
         setup::monitors(&mut sim)?;
         sim.ghosts = crate::cover::stabilise::ghost_ties(&sim.disc)
             .iter()
@@ -388,8 +425,13 @@ impl Simulation {
         lp.k = vec![0.0; nnz];
         lp.m = vec![0.0; nnz];
         lp.p = vec![0.0; nnz];
-        let damped = self.model.analysis.mode == Mode::Dynamic
-            && self.model.materials.iter().any(|m| !m.damping.is_zero());
+        let dynamic = self.model.analysis.mode == Mode::Dynamic
+            || self
+                .model
+                .stages
+                .iter()
+                .any(|s| s.analysis.mode == Mode::Dynamic);
+        let damped = dynamic && self.model.materials.iter().any(|m| !m.damping.is_zero());
         lp.c = if damped { vec![0.0; nnz] } else { Vec::new() };
         lp.tangent = TangentPattern::new(pattern, groups);
         lp.step = None;
@@ -421,20 +463,117 @@ impl Simulation {
         w
     }
 
-    /// End time of the analysis.
+    /// End time of the analysis (of its last stage).
     pub fn end_time(&self) -> f64 {
         let a = &self.model.analysis;
-        time::grid_time(self.time_origin, a.steps as u64, a.dt)
+        let mut t = time::grid_time(self.time_origin, a.steps as u64, a.dt);
+        for s in self.model.stages.iter().skip(self.stage + 1) {
+            t = time::grid_time(t, s.analysis.steps as u64, s.analysis.dt);
+        }
+        t
     }
 
-    /// Whether the analysis has reached its end time (completed all its full steps).
+    /// Whether the analysis has reached its end time (completed all the full steps of its
+    /// last stage).
     pub fn finished(&self) -> bool {
+        self.stage_finished() && self.stage + 1 >= self.model.stages.len()
+    }
+
+    /// Whether the current stage (the whole analysis without stages) has completed its
+    /// full steps.
+    pub fn stage_finished(&self) -> bool {
         self.full_steps >= self.model.analysis.steps as u64
     }
 
+    /// The index of the current stage in `model.stages` (0 without stages).
+    pub fn stage_index(&self) -> usize {
+        self.stage
+    }
+
+    /// The current stage's name (`None` without `[[stage]]`). After a step, the stage that
+    /// step belonged to: the next stage begins with the next step.
+    pub fn stage_name(&self) -> Option<&str> {
+        self.model.stages.get(self.stage).map(|s| s.name.as_str())
+    }
+
+    /// Full steps of the whole analysis (every stage), for progress reports.
+    pub fn total_steps(&self) -> usize {
+        if self.model.stages.is_empty() {
+            self.model.analysis.steps
+        } else {
+            self.model.stages.iter().map(|s| s.analysis.steps).sum()
+        }
+    }
+
+    /// Full steps of the stages before the current one plus those done in it.
+    pub fn full_steps_done(&self) -> usize {
+        let before: usize = self
+            .model
+            .stages
+            .iter()
+            .take(self.stage)
+            .map(|s| s.analysis.steps)
+            .sum();
+        before + self.full_steps as usize
+    }
+
+    /// The base acceleration at time `t` of the run's clock: the record at `t` − the
+    /// start of the stage that applies it (the record from t = 0 without stages), zero in a
+    /// stage without base motion.
+    pub fn base_acceleration(&self, t: f64) -> crate::geometry::Vec2 {
+        match (&self.model.base_motion, self.base_origin) {
+            (Some(b), Some(t0)) => b.accel(t - t0),
+            _ => [0.0, 0.0],
+        }
+    }
+
+    /// Begin the next stage: its analysis keys, a step grid from the current time, the
+    /// base-motion record from its start if it asks for it. Displacements, stresses and
+    /// contact states carry over; after a static stage the velocity is zero (a static step
+    /// ends at rest) and the next stage's first iterate starts from zero.
+    fn begin_next_stage(&mut self) {
+        let was_static = self.model.analysis.mode == Mode::Static;
+        self.stage += 1;
+        let s = &self.model.stages[self.stage];
+        self.model.analysis = s.analysis.clone();
+        self.base_origin = s.base_motion.then_some(self.time);
+        self.time_origin = self.time;
+        self.full_steps = 0;
+        self.partial = 0.0;
+        self.scale_constraint_penalties();
+        if was_static {
+            self.v.iter_mut().for_each(|x| *x = 0.0);
+            self.last_du.iter_mut().for_each(|x| *x = 0.0);
+            self.last_dt = 0.0;
+        }
+        // the friction law and the inertia coefficient may change with the stage
+        self.contacts_current = false;
+        self.linear.step = None;
+    }
+
+    /// The constraint springs for the current stage's `constraint_penalty`: those set up
+    /// with the first stage's factor, scaled (each spring is linear in the factor).
+    fn scale_constraint_penalties(&mut self) {
+        let s = self.model.analysis.constraint_penalty / self.penalty_factor;
+        for (p, b) in self.penalties.iter_mut().zip(&self.penalty_base) {
+            if s == 1.0 {
+                p.k = b.k;
+                p.g = b.g;
+            } else {
+                p.k = b.k.map(|x| x * s);
+                p.g = b.g.map(|x| x * s);
+            }
+        }
+        self.linear.step = None;
+    }
+
     /// Advance one step, cutting Δt on non-convergence. The step covers the rest of the
-    /// current interval of Δt (all of it unless an earlier step was cut).
+    /// current interval of Δt (all of it unless an earlier step was cut). When the current
+    /// stage is complete, the step is the first of the next stage.
     pub fn advance(&mut self) -> Result<StepReport, StepError> {
+        if self.stage_finished() && self.stage + 1 < self.model.stages.len() {
+            self.begin_next_stage();
+        }
         // 2. contacts on the geometry at t_n (once per step, whatever the cuts)
         if !self.contacts_current {
             let search = self.search_distance();
@@ -592,12 +731,7 @@ impl Simulation {
     /// of E_max · 10⁻¹² · h.
     fn right_hand_side(&self, dt: f64, t1: f64, v_n: &[f64], f: &mut [f64], f_ext_abs: &mut [f64]) {
         let cv = time::velocity_coefficient(dt);
-        let a_base = self
-            .model
-            .base_motion
-            .as_ref()
-            .map(|b| b.accel(t1))
-            .unwrap_or([0.0, 0.0]);
+        let a_base = self.base_acceleration(t1);
         let g = self.model.analysis.gravity;
         // body acceleration in the frame of the base: gravity − a_base
         let b = [g[0] - a_base[0], g[1] - a_base[1]];
@@ -636,7 +770,7 @@ impl Simulation {
                 f_ext_abs[d] += fb.abs() + (cv * mv).abs() + fi.abs();
             }
         }
-        if !lp.c.is_empty() {
+        if !lp.c.is_empty() && self.model.analysis.mode == Mode::Dynamic {
             // Rayleigh damping: C v_{n+1} = (2/Δt) C Δu − C v_n, so + C v_n here
             let mut cv_n = vec![0.0; f.len()];
             step::sym_mul(lp.tangent.element(), &lp.c, v_n, &mut cv_n);
@@ -1198,12 +1332,7 @@ impl Simulation {
         let t1 = self.time + dt;
         let lp = &self.linear;
         let g = self.model.analysis.gravity;
-        let a_base = self
-            .model
-            .base_motion
-            .as_ref()
-            .map(|b| b.accel(t1))
-            .unwrap_or([0.0, 0.0]);
+        let a_base = self.base_acceleration(t1);
         // work of gravity and of the base's inertial force over the step (body forces of the
         // step's geometry), and of the loads
         let (mut w_grav, mut w_ext) = (0.0, 0.0);
@@ -1269,14 +1398,7 @@ impl Simulation {
         }
         let net = e.total() - e.external_work;
         e.max = e.max.max(net);
-        for c in [
-            e.kinetic,
-            e.elastic,
-            e.gravity,
-            e.contact,
-            e.penalty,
-            e.external_work,
-        ] {
+        for c in e.components() {
             e.scale = e.scale.max(c.abs());
         }
     }

@@ -12,6 +12,7 @@
 //! ([`RunSummary::to_json`]) is written at the end of every run, finished, interrupted or
 //! failed. The files and fields are documented in `docs/outputs.md`.
 
+use super::checkpoint::{Checkpoint, SavedOptions, SavedOutputs};
 use super::{Simulation, StepError, Timings};
 use crate::contact::friction::ContactStatus;
 use crate::material::out_of_plane_stress;
@@ -76,16 +77,37 @@ pub struct RunOptions {
     pub interrupt: Option<Arc<AtomicBool>>,
     /// Write VTK frames (default true through [`RunOptions::new`]).
     pub vtk: bool,
-    /// The model file, for summary.json (`"model": null` without it).
+    /// The model file, for summary.json (`"model": null` without it) and checkpoints.
     pub model_path: Option<PathBuf>,
+    /// Also write a checkpoint every N steps (0: only at the end of each stage and when
+    /// interrupted). Checkpoints are written only with a `model_path`.
+    pub checkpoint_every: usize,
+    /// The `--friction` override the model was loaded with (recorded in checkpoints).
+    pub friction: Option<crate::model::FrictionAlgorithm>,
+    /// Where the run starts: afresh, resuming its own checkpoint, or branching from a
+    /// checkpoint of another run.
+    pub start: Start,
+}
+
+/// Where a run starts.
+#[derive(Debug, Clone, Default)]
+pub enum Start {
+    /// From the model's initial state, with new outputs.
+    #[default]
+    Fresh,
+    /// From the run's own checkpoint, continuing its outputs (history.csv is cut back to
+    /// the checkpoint's step and continued).
+    Resume(Box<Checkpoint>),
+    /// From another run's checkpoint (`--from`): new outputs, whose rows start after the
+    /// checkpoint's step.
+    Branch(Box<Checkpoint>),
 }
 
 impl RunOptions {
     pub fn new() -> Self {
         RunOptions {
-            interrupt: None,
             vtk: true,
-            model_path: None,
+            ..Default::default()
         }
     }
 }
@@ -135,6 +157,8 @@ pub struct RunSummary {
     pub equilibrium: Option<Value>,
     /// The model's warnings ([`Simulation::warnings`]).
     pub warnings: Vec<String>,
+    /// With `[[stage]]`: the stage of the last step (`None` without stages).
+    pub stage: Option<String>,
     /// Peak resident memory of the process (Linux: VmHWM), `None` elsewhere.
     pub peak_memory_bytes: Option<u64>,
     pub model_path: Option<PathBuf>,
@@ -250,6 +274,7 @@ impl RunSummary {
                 })
             }),
             "warnings": self.warnings,
+            "stage": self.stage,
         })
     }
 
@@ -439,13 +464,21 @@ struct Frames {
 
 impl Frames {
     fn new(out: &Path) -> Result<Frames, RunError> {
+        Frames::with(out, Default::default(), Default::default())
+    }
+    /// The collections with the frames written so far (a resumed run).
+    fn with(
+        out: &Path,
+        blocks: (Vec<(f64, String)>, Vec<String>),
+        contacts: (Vec<(f64, String)>, Vec<String>),
+    ) -> Result<Frames, RunError> {
         let dir = out.join("vtk");
         std::fs::create_dir_all(&dir).map_err(|e| io(&dir, e))?;
         let b = out.join("blocks.pvd");
         let c = out.join("contacts.pvd");
         Ok(Frames {
-            blocks: PvdWriter::new(&b).map_err(|e| io(&b, e))?,
-            contacts: PvdWriter::new(&c).map_err(|e| io(&c, e))?,
+            blocks: PvdWriter::with_frames(&b, blocks.0, blocks.1).map_err(|e| io(&b, e))?,
+            contacts: PvdWriter::with_frames(&c, contacts.0, contacts.1).map_err(|e| io(&c, e))?,
             dir,
         })
     }
@@ -467,8 +500,12 @@ impl Frames {
             } else {
                 &mut self.contacts
             };
-            pvd.add(sim.time, &format!("vtk/{name}"))
-                .map_err(|e| io(&path, e))?;
+            pvd.add_named(
+                sim.time,
+                &format!("vtk/{name}"),
+                sim.stage_name().unwrap_or(""),
+            )
+            .map_err(|e| io(&path, e))?;
         }
         Ok(())
     }
@@ -490,7 +527,11 @@ pub fn run_observed(
     std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
     let start = Instant::now();
     let n_blocks = model.blocks.len();
-    let mut sim = match Simulation::new(model) {
+    let made = Simulation::new(model).and_then(|mut sim| match &opts.start {
+        Start::Fresh => Ok(sim),
+        Start::Resume(c) | Start::Branch(c) => sim.restore(c).map(|_| sim),
+    });
+    let mut sim = match made {
         Ok(sim) => sim,
         Err(e) => {
             let summary = RunSummary {
@@ -551,6 +592,7 @@ pub fn run_simulation(
     }));
     summary.steps = sim.step;
     summary.time = sim.time;
+    summary.stage = sim.stage_name().map(str::to_string);
     summary.timings = sim.timings;
     summary.status = match &result {
         Err(_) => RunStatus::Failed,
@@ -568,7 +610,8 @@ pub fn run_simulation(
     Ok(summary)
 }
 
-/// The stepping loop of [`run_simulation`]: history rows, frames, the block table.
+/// The stepping loop of [`run_simulation`]: history rows, frames, the block table,
+/// checkpoints.
 fn step_to_end(
     sim: &mut Simulation,
     out: &Path,
@@ -579,20 +622,68 @@ fn step_to_end(
     let t_out = Instant::now();
     write_block_table(&sim.model, &out.join("blocks.csv"))?;
     let hist_path = out.join("history.csv");
-    let mut hist = HistoryWriter::create(&hist_path, &history_columns(&sim.model))
-        .map_err(|e| io(&hist_path, e))?;
-    let mut frames = if opts.vtk {
-        Some(Frames::new(out)?)
-    } else {
-        None
+    let columns = history_columns(&sim.model);
+    let staged = !sim.model.stages.is_empty();
+    let stage_column = staged.then_some("stage");
+    let resumed = match &opts.start {
+        Start::Resume(c) => Some(c.as_ref()),
+        _ => None,
     };
-    if let Some(f) = frames.as_mut() {
-        f.write(sim)?;
+    let mut hist = match resumed {
+        Some(c) => HistoryWriter::append_after(&hist_path, &columns, staged, c.outputs.history_len)
+            .map_err(|e| io(&hist_path, e))?,
+        None => HistoryWriter::create_with_text(&hist_path, &columns, stage_column)
+            .map_err(|e| io(&hist_path, e))?,
+    };
+    let mut last_written = sim.step;
+    let mut frames = match (opts.vtk, resumed) {
+        (false, _) => None,
+        (true, Some(c)) => {
+            last_written = c.outputs.last_frame;
+            Some(Frames::with(
+                out,
+                (
+                    c.outputs.blocks_frames.clone(),
+                    c.outputs.blocks_names.clone(),
+                ),
+                (
+                    c.outputs.contacts_frames.clone(),
+                    c.outputs.contacts_names.clone(),
+                ),
+            )?)
+        }
+        (true, None) => {
+            let mut f = Frames::new(out)?;
+            f.write(sim)?;
+            Some(f)
+        }
+    };
+    if let Some(c) = resumed {
+        let o = &c.outputs;
+        summary.iterations = o.iterations.clone();
+        summary.solves = o.solves.clone();
+        summary.contacts = o.contacts.clone();
+        summary.cut_steps = o.cut_steps.clone();
+        summary.active_set_changes = o.active_set_changes;
+        summary.not_in_equilibrium = o.not_in_equilibrium;
+        summary.last_equilibrium = o.last_equilibrium;
+        let l = o.linear;
+        summary.linear.solves = l[0];
+        summary.linear.gmres_iterations = l[1];
+        summary.linear.factorisations = l[2];
+        summary.linear.symbolic_analyses = l[3];
+        summary.linear.lu_factorisations = l[4];
+        let t = o.timings;
+        sim.timings.cover += t[0];
+        sim.timings.stages.assembly += t[1];
+        sim.timings.stages.contact += t[2];
+        sim.timings.stages.factorisation += t[3];
+        sim.timings.stages.solve += t[4];
+        summary.output_time += t[5];
     }
     summary.output_time += t_out.elapsed();
-    let every = sim.model.analysis.output_every.max(1);
-    progress.start(sim.step, sim.model.analysis.steps);
-    let mut last_written = sim.step;
+    let mut checkpoints = Checkpoints::new(out, opts);
+    progress.start(sim.full_steps_done(), sim.total_steps());
     while !sim.finished() {
         let rep = match sim.advance() {
             Ok(r) => r,
@@ -628,20 +719,77 @@ fn step_to_end(
                 .count(),
         );
         let t_out = Instant::now();
-        hist.write_row(sim.step, sim.time, &monitor_values(sim), rep.iterations)
-            .map_err(|e| io(&hist_path, e))?;
+        hist.write_row_text(
+            sim.step,
+            sim.time,
+            &monitor_values(sim),
+            rep.iterations,
+            sim.stage_name(),
+        )
+        .map_err(|e| io(&hist_path, e))?;
         let interrupted = opts
             .interrupt
             .as_ref()
             .is_some_and(|f| f.load(Ordering::SeqCst));
+        let every = sim.model.analysis.output_every.max(1);
+        let stage_end = sim.stage_finished();
         if let Some(f) = frames.as_mut() {
-            if sim.step % every == 0 || sim.finished() || interrupted {
+            if sim.step % every == 0 || stage_end || interrupted {
                 f.write(sim)?;
                 last_written = sim.step;
             }
         }
+        let periodic =
+            opts.checkpoint_every > 0 && (sim.step % opts.checkpoint_every == 0 || sim.finished());
+        // without stages, no checkpoint at the end unless asked for (outputs as before)
+        if (stage_end && staged) || interrupted || periodic {
+            let history_len = hist.position().map_err(|e| io(&hist_path, e))?;
+            let saved = SavedOutputs {
+                history_len,
+                blocks_frames: frames
+                    .as_ref()
+                    .map(|f| f.blocks.frames().to_vec())
+                    .unwrap_or_default(),
+                contacts_frames: frames
+                    .as_ref()
+                    .map(|f| f.contacts.frames().to_vec())
+                    .unwrap_or_default(),
+                blocks_names: frames
+                    .as_ref()
+                    .map(|f| f.blocks.frame_names().to_vec())
+                    .unwrap_or_default(),
+                contacts_names: frames
+                    .as_ref()
+                    .map(|f| f.contacts.frame_names().to_vec())
+                    .unwrap_or_default(),
+                last_frame: last_written,
+                iterations: summary.iterations.clone(),
+                solves: summary.solves.clone(),
+                contacts: summary.contacts.clone(),
+                cut_steps: summary.cut_steps.clone(),
+                active_set_changes: summary.active_set_changes,
+                not_in_equilibrium: summary.not_in_equilibrium,
+                last_equilibrium: summary.last_equilibrium,
+                linear: [
+                    summary.linear.solves,
+                    summary.linear.gmres_iterations,
+                    summary.linear.factorisations,
+                    summary.linear.symbolic_analyses,
+                    summary.linear.lu_factorisations,
+                ],
+                timings: [
+                    sim.timings.cover,
+                    sim.timings.stages.assembly,
+                    sim.timings.stages.contact,
+                    sim.timings.stages.factorisation,
+                    sim.timings.stages.solve,
+                    summary.output_time + t_out.elapsed(),
+                ],
+            };
+            checkpoints.write(sim, &saved, stage_end)?;
+        }
         summary.output_time += t_out.elapsed();
-        progress.step_done(sim.step, sim.time);
+        progress.step_done(sim.full_steps_done(), sim.time);
         progress.counts(
             summary.solves.iter().sum(),
             summary.cut_steps.iter().map(|c| c.1).sum(),
@@ -653,6 +801,85 @@ fn step_to_end(
         }
     }
     hist.flush().map_err(|e| io(&hist_path, e))
+}
+
+/// Where a run's checkpoints go: `DIR/checkpoints/step_NNNNNNNN.ckpt`. Those at the end of
+/// a stage are kept (the branch points of parameter studies); a periodic or interrupt
+/// checkpoint replaces the previous periodic one.
+struct Checkpoints {
+    dir: PathBuf,
+    model_path: Option<String>,
+    options: SavedOptions,
+    /// The last checkpoint that was not at the end of a stage.
+    last_periodic: Option<PathBuf>,
+}
+
+impl Checkpoints {
+    fn new(out: &Path, opts: &RunOptions) -> Checkpoints {
+        Checkpoints {
+            dir: out.join("checkpoints"),
+            model_path: opts.model_path.as_ref().map(|p| {
+                std::path::absolute(p)
+                    .unwrap_or_else(|_| p.clone())
+                    .display()
+                    .to_string()
+            }),
+            options: SavedOptions {
+                friction: opts.friction,
+                vtk: opts.vtk,
+                checkpoint_every: opts.checkpoint_every,
+            },
+            last_periodic: None,
+        }
+    }
+
+    fn write(
+        &mut self,
+        sim: &Simulation,
+        outputs: &SavedOutputs,
+        stage_end: bool,
+    ) -> Result<(), RunError> {
+        let Some(model) = &self.model_path else {
+            return Ok(());
+        };
+        std::fs::create_dir_all(&self.dir).map_err(|e| io(&self.dir, e))?;
+        let path = self.dir.join(checkpoint_name(sim.step));
+        sim.write_checkpoint(&path, model, &self.options, outputs)
+            .map_err(|e| io(&path, e))?;
+        if let Some(old) = self.last_periodic.take() {
+            if old != path {
+                let _ = std::fs::remove_file(old);
+            }
+        }
+        if !stage_end {
+            self.last_periodic = Some(path);
+        }
+        Ok(())
+    }
+}
+
+/// `step_NNNNNNNN.ckpt`: the checkpoint after `step` completed steps.
+pub fn checkpoint_name(step: usize) -> String {
+    format!("step_{step:08}.ckpt")
+}
+
+/// The latest checkpoint of a run folder (the one after the most steps), if any.
+pub fn latest_checkpoint(out: &Path) -> Option<PathBuf> {
+    let dir = out.join("checkpoints");
+    std::fs::read_dir(&dir)
+        .ok()?
+        .filter_map(|e| e.ok())
+        .filter_map(|e| {
+            let name = e.file_name().into_string().ok()?;
+            let step: usize = name
+                .strip_prefix("step_")?
+                .strip_suffix(".ckpt")?
+                .parse()
+                .ok()?;
+            Some((step, e.path()))
+        })
+        .max_by_key(|(s, _)| *s)
+        .map(|(_, p)| p)
 }
 
 /// Any line breaks of a message as spaces.

@@ -166,8 +166,7 @@ impl TangentOperator for StepSystem<'_> {
 
 impl PiecewiseSystem for StepSystem<'_> {
     fn choose_branches(&mut self, x: &[f64], first: bool) -> usize {
-        let c = self.contacts.choose_branches(x, first);
-        c
+        self.contacts.choose_branches(x, first)
     }
 
     fn choose_own_branches(&mut self, x: &[f64]) -> usize {

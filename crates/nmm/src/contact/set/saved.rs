@@ -1,0 +1,48 @@
+//! The part of a [`ContactSet`] that crosses steps, for checkpoints
+//! (`simulation/checkpoint.rs`): everything else in the set is rebuilt by the next step's
+//! detection on the restored geometry.
+
+use super::{ContactKey, ContactSet};
+use crate::contact::friction::ShearHistory;
+use crate::geometry::Vec2;
+
+/// The committed state of a contact set after a converged step.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SavedContacts {
+    /// Converged steps committed so far.
+    pub commits: usize,
+    /// Committed history and outward normal of each closed contact, sorted by key.
+    pub committed: Vec<(ContactKey, ShearHistory, Vec2)>,
+    /// Every contact of the last committed step, open ones included, sorted.
+    pub seen: Vec<ContactKey>,
+}
+
+impl ContactSet {
+    /// What the next step needs of this set (sorted, so that the same state saves the
+    /// same bytes).
+    pub fn saved(&self) -> SavedContacts {
+        let mut committed: Vec<(ContactKey, ShearHistory, Vec2)> = self
+            .committed
+            .iter()
+            .map(|(k, (h, n))| (*k, *h, *n))
+            .collect();
+        committed.sort_by_key(|c| c.0);
+        let mut seen: Vec<ContactKey> = self.seen.iter().copied().collect();
+        seen.sort_unstable();
+        SavedContacts {
+            commits: self.commits,
+            committed,
+            seen,
+        }
+    }
+
+    /// Restore a saved state into a fresh set (the contacts themselves are found again by
+    /// the next detection).
+    pub fn restore(&mut self, s: &SavedContacts) {
+        self.commits = s.commits;
+        self.committed = s.committed.iter().map(|(k, h, n)| (*k, (*h, *n))).collect();
+        self.seen = s.seen.iter().copied().collect();
+        self.contacts.clear();
+        self.bound = None;
+    }
+}

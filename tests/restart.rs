@@ -1,0 +1,267 @@
+//! Restart: a run interrupted at several steps — by SIGINT (it stops cleanly and writes a
+//! checkpoint) or by SIGKILL (it resumes from its last periodic checkpoint) — and resumed
+//! with `nmm resume DIR` writes a history.csv identical, byte for byte, to the
+//! uninterrupted run's; `nmm run MODEL --from CHECKPOINT` branches a new model's later
+//! stages from a saved state exactly as that model's own run; a checkpoint of another
+//! model or of another program version is refused with one line.
+//!
+//! The model: the shaken-slope block settled in a static stage, then shaken at 0.5 g, 5 Hz
+//! (it slides: the contacts' stick/slide states and elastic shear gaps must carry over),
+//! on a fine cover so that a run lasts long enough to be interrupted midway.
+
+use nmm::verify::cases::{slope_model, SineMotion};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+const SHAKE_STEPS: usize = 1000;
+const SETTLE_STEPS: usize = 5;
+
+fn model_text(amplitude: f64) -> String {
+    let motion = SineMotion {
+        amplitude,
+        frequency: 5.0,
+        ramp: 0.0,
+        duration: 1.0,
+    };
+    let text = slope_model(30.0, &motion, "return-mapping", 1e-3)
+        .replace("[cover]\nsize = 0.1\n", "[cover]\nsize = 0.025\n")
+        .replace("[analysis]\n", "[analysis]\noutput_every = 100\n");
+    assert!(text.contains("size = 0.025") && text.contains("output_every = 100"));
+    format!(
+        "{text}[[monitor]]\nname = \"joint\"\ninterface = [\"slider\", \"base\"]\n\
+         [[stage]]\nname = \"settle\"\nmode = \"static\"\ndt = 0.01\nsteps = {SETTLE_STEPS}\n\
+         [[stage]]\nname = \"shake\"\ndt = 0.001\nsteps = {SHAKE_STEPS}\nbase_motion = true\n"
+    )
+}
+
+fn nmm(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_nmm"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn write_model(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn rows(hist: &Path) -> usize {
+    std::fs::read_to_string(hist)
+        .map(|s| s.lines().count().saturating_sub(1))
+        .unwrap_or(0)
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// Runs `model` into `out`, sends `signal` once history.csv has `at` rows, and returns
+/// the rows it had written when it stopped.
+fn interrupted_run(model: &Path, out: &Path, signal: &str, at: usize) -> usize {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_nmm"))
+        .args([
+            "run",
+            s(model),
+            "--out",
+            s(out),
+            "--checkpoint-every",
+            "40",
+            "--quiet",
+        ])
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let hist = out.join("history.csv");
+    let t0 = Instant::now();
+    while rows(&hist) < at {
+        assert!(t0.elapsed() < Duration::from_secs(120), "no progress");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let ok = Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(ok.success());
+    let status = child.wait().unwrap();
+    if signal == "-INT" {
+        assert_eq!(status.code(), Some(130), "interrupted by SIGINT");
+    } else {
+        assert!(status.code().is_none(), "killed by SIGKILL: {status:?}");
+    }
+    rows(&hist)
+}
+
+#[test]
+fn interrupted_and_resumed_runs_write_the_same_history() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = write_model(dir.path(), "slope.toml", &model_text(0.5 * 9.81));
+    let full = dir.path().join("full");
+    let o = nmm(&["run", s(&model), "--out", s(&full), "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let reference = std::fs::read(full.join("history.csv")).unwrap();
+    let text = String::from_utf8(reference.clone()).unwrap();
+    assert_eq!(text.lines().count(), 1 + SETTLE_STEPS + SHAKE_STEPS);
+    assert!(text.lines().next().unwrap().ends_with(",iterations,stage"));
+    // it slides: the contacts change state during the run
+    let last: Vec<&str> = text.lines().last().unwrap().split(',').collect();
+    assert!(last[2].parse::<f64>().unwrap() > 0.01, "slip {}", last[2]);
+    let summary_of = |d: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap()
+    };
+    let full_summary = summary_of(&full);
+    for (k, (signal, at)) in [("-INT", 60), ("-INT", 420), ("-KILL", 150), ("-KILL", 700)]
+        .into_iter()
+        .enumerate()
+    {
+        let out = dir.path().join(format!("run{k}"));
+        let stopped = interrupted_run(&model, &out, signal, at);
+        assert!(
+            stopped < SETTLE_STEPS + SHAKE_STEPS,
+            "{signal} at {at}: the run had finished"
+        );
+        let o = nmm(&["resume", s(&out), "--quiet"]);
+        assert!(
+            o.status.success(),
+            "{signal} at {at}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let resumed = std::fs::read(out.join("history.csv")).unwrap();
+        assert!(
+            resumed == reference,
+            "{signal} after {stopped} rows: history differs from the uninterrupted run's"
+        );
+        let sm = summary_of(&out);
+        assert_eq!(sm["status"], "finished");
+        assert_eq!(sm["steps"], full_summary["steps"]);
+        assert_eq!(sm["iterations"], full_summary["iterations"]);
+        assert_eq!(sm["energy"], full_summary["energy"]);
+        assert_eq!(sm["stage"], "shake");
+        // the VTK collections list every frame of the uninterrupted run once, and the
+        // frame written at a SIGINT
+        let pvd = std::fs::read_to_string(out.join("blocks.pvd")).unwrap();
+        let interrupt_frame = format!("blocks_{stopped:06}.vtu");
+        let kept: Vec<&str> = pvd
+            .lines()
+            .filter(|l| signal != "-INT" || !l.contains(&interrupt_frame))
+            .collect();
+        let want = std::fs::read_to_string(full.join("blocks.pvd")).unwrap();
+        assert_eq!(kept, want.lines().collect::<Vec<_>>());
+        eprintln!("{signal} after {stopped} rows: resumed, history identical");
+    }
+
+    // a finished run resumes to the same outputs
+    let o = nmm(&["resume", s(&full), "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(std::fs::read(full.join("history.csv")).unwrap() == reference);
+
+    // another model: the file changed since the run
+    let changed = model_text(0.5 * 9.81).replace("friction_angle = 40.5", "friction_angle = 41");
+    std::fs::write(&model, &changed).unwrap();
+    let o = nmm(&["resume", s(&full)]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("a checkpoint of another model"), "{err}");
+}
+
+#[test]
+fn a_checkpoint_of_another_version_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = model_text(0.5 * 9.81).replace(
+        &format!("steps = {SHAKE_STEPS}\nbase_motion"),
+        "steps = 3\nbase_motion",
+    );
+    let model = write_model(dir.path(), "short.toml", &text);
+    let out = dir.path().join("out");
+    assert!(nmm(&["run", s(&model), "--out", s(&out), "--quiet"])
+        .status
+        .success());
+    let ckpt = nmm::simulation::latest_checkpoint(&out).unwrap();
+    assert!(ckpt.ends_with("step_00000008.ckpt"), "{}", ckpt.display());
+    let mut bytes = std::fs::read(&ckpt).unwrap();
+    let v = env!("CARGO_PKG_VERSION").as_bytes();
+    let at = bytes.windows(v.len()).position(|w| w == v).unwrap();
+    bytes[at] = if bytes[at] == b'9' { b'8' } else { b'9' };
+    std::fs::write(&ckpt, bytes).unwrap();
+    let o = nmm(&["resume", s(&out)]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("checkpoint written by nmm"), "{err}");
+    // no checkpoint at all
+    let o = nmm(&["resume", s(dir.path())]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("no checkpoint"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_branch_from_the_settled_state_runs_as_the_new_models_own_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let short = |a: f64| {
+        model_text(a).replace(
+            &format!("steps = {SHAKE_STEPS}\nbase_motion"),
+            "steps = 150\nbase_motion",
+        )
+    };
+    let a = write_model(dir.path(), "a.toml", &short(0.5 * 9.81));
+    let b = write_model(dir.path(), "b.toml", &short(0.3 * 9.81));
+    let (oa, ob, ob_fresh) = (
+        dir.path().join("a"),
+        dir.path().join("b"),
+        dir.path().join("b-fresh"),
+    );
+    assert!(nmm(&["run", s(&a), "--out", s(&oa), "--quiet"])
+        .status
+        .success());
+    let settled = oa.join("checkpoints").join("step_00000005.ckpt");
+    assert!(
+        settled.exists(),
+        "a checkpoint at the end of the settle stage"
+    );
+    let o = nmm(&[
+        "run",
+        s(&b),
+        "--out",
+        s(&ob),
+        "--from",
+        s(&settled),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(nmm(&["run", s(&b), "--out", s(&ob_fresh), "--quiet"])
+        .status
+        .success());
+    let branch = std::fs::read_to_string(ob.join("history.csv")).unwrap();
+    let fresh = std::fs::read_to_string(ob_fresh.join("history.csv")).unwrap();
+    let fresh_rows: Vec<&str> = fresh.lines().collect();
+    let branch_rows: Vec<&str> = branch.lines().collect();
+    assert_eq!(branch_rows[0], fresh_rows[0], "same header");
+    // the branch's rows are the shaking's: those of b's own run after its settling
+    assert_eq!(&branch_rows[1..], &fresh_rows[1 + SETTLE_STEPS..]);
+    assert!(branch_rows[1].starts_with("6,0.051,"));
+
+    // a model whose saved-state parts differ is refused, naming them
+    let c = write_model(
+        dir.path(),
+        "c.toml",
+        &short(0.3 * 9.81).replace("young = 7.0e9", "young = 8.0e9"),
+    );
+    let o = nmm(&[
+        "run",
+        s(&c),
+        "--out",
+        s(&dir.path().join("c")),
+        "--from",
+        s(&settled),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("the model differs in materials ("), "{err}");
+}

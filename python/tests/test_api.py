@@ -339,3 +339,21 @@ def test_typed_builders_make_the_incline_of_the_file():
     assert nmm.check(b)["blocks"] > 2
     b.add_joint("f", [[-10.0, 0.0], [10.0, 20.0]], blocks=["slider"])
     assert nmm.check(b)["joints"] == 2
+
+
+def test_a_staged_run_has_the_stage_column_as_the_cli(tmp_path, nmm_cli):
+    text = incline_toml(steps=20) + (
+        '\n[[stage]]\nname = "settle"\nmode = "static"\ndt = 0.01\nsteps = 5\n'
+        '\n[[stage]]\nname = "slide"\nsteps = 10\n'
+    )
+    m = nmm.Model.from_toml(text)
+    assert m.history_columns[-2:] == ["iterations", "stage"]
+    assert nmm.check(m)["stages"] == ["settle", "slide"]
+    r = nmm.run(m, out=tmp_path / "py", vtk=False)
+    assert list(r.history.columns) == m.history_columns
+    assert list(r.history["stage"].unique()) == ["settle", "slide"] and len(r.history) == 15
+    path = tmp_path / "staged.toml"
+    path.write_text(text)
+    p = cli(nmm_cli, "run", path, "--out", tmp_path / "cli", "--no-vtk")
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "py" / "history.csv").read_bytes() == (tmp_path / "cli" / "history.csv").read_bytes()

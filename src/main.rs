@@ -130,12 +130,7 @@ fn cutting_line(m: &nmm::model::Model) -> Option<String> {
         .filter(|j| matches!(j.kind, nmm::model::JointKind::Set { .. }))
         .count();
     let pieces = m.blocks.iter().filter(|b| b.parent.is_some()).count();
-    let mut parents: Vec<&str> = m
-        .blocks
-        .iter()
-        .filter_map(|b| b.parent.as_deref())
-        .collect();
-    parents.dedup();
+    let parents = nmm::check::cut_blocks(m);
     let mut line = format!(
         "cutting: {} joint set(s) and {} joint(s) cut {} block(s) into {pieces} pieces; {} crack(s)",
         sets,
@@ -167,6 +162,11 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
             eprintln!("warning: {w}");
         }
     }
+    if json {
+        let v = nmm::check::check_json(&sim, &path.display().to_string());
+        println!("{v}");
+        return Ok(ExitCode::SUCCESS);
+    }
     let m = &sim.model;
     let areas: Vec<f64> = m
         .blocks
@@ -174,38 +174,8 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
         .map(|b| nmm::geometry::polygon::signed_area(&b.vertices))
         .collect();
     let total: f64 = areas.iter().sum();
-    let (smallest, smallest_at) = areas.iter().enumerate().fold(
-        (f64::INFINITY, 0),
-        |acc, (i, &a)| if a < acc.0 { (a, i) } else { acc },
-    );
+    let (smallest, smallest_at) = nmm::check::smallest(&areas);
     let fixed = m.blocks.iter().filter(|b| b.fixed).count();
-    let mut parents: Vec<&str> = m
-        .blocks
-        .iter()
-        .filter_map(|b| b.parent.as_deref())
-        .collect();
-    parents.dedup();
-    if json {
-        let v = serde_json::json!({
-            "model": path.display().to_string(),
-            "blocks": m.blocks.len(),
-            "fixed_blocks": fixed,
-            "cut_blocks": parents.len(),
-            "joints": m.joints.len(),
-            "cracks": m.cracks.len(),
-            "merged_pieces": m.merged.len(),
-            "enclosed_pieces": m.enclosed.len(),
-            "physical_covers": sim.disc.covers.len(),
-            "manifold_elements": sim.disc.elements.len(),
-            "unknowns": sim.n_dofs(),
-            "block_area_total": total,
-            "smallest_block_area": smallest,
-            "smallest_block": m.blocks[smallest_at].name,
-            "stages": m.stages.iter().map(|st| st.name.clone()).collect::<Vec<_>>(),
-        });
-        println!("{v}");
-        return Ok(ExitCode::SUCCESS);
-    }
     println!("model: {}", path.display());
     println!("blocks: {} ({} fixed)", m.blocks.len(), fixed);
     println!("physical covers: {}", sim.disc.covers.len());

@@ -1,0 +1,192 @@
+"""nmm — the Numerical Manifold Method for 2-D deformable blocks in contact, from Python.
+
+    import nmm
+    model = nmm.Model.load("examples/direct_shear.toml")
+    print(nmm.check(model))                 # the keys of `nmm check --json`
+    result = nmm.run(model, out="out/ds")   # as `nmm run MODEL --out out/ds`
+    result.history                          # pandas DataFrame: the history.csv columns
+    result.summary                          # summary.json as a dict
+
+A model is validated by the library itself (the same code as the command line): a model
+the file format refuses raises :class:`ModelError` with the same one-line message. Changes
+made from Python (:meth:`Model.set`, :meth:`Model.with_overrides`, :meth:`Model.add`,
+:meth:`Model.remove`) edit the model's TOML text and validate it again.
+
+Parameter studies on dask.distributed: :func:`nmm.study.run`.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+from typing import Any, Callable, Optional, Union
+
+from ._nmm import Model, ModelError, RunError, version
+from . import _nmm
+
+__all__ = [
+    "Model",
+    "ModelError",
+    "RunError",
+    "Interrupted",
+    "Result",
+    "check",
+    "run",
+    "read_history",
+    "as_model",
+    "study",
+    "__version__",
+]
+
+__version__ = version()
+
+
+class Result:
+    """A finished run: ``history`` (DataFrame of history.csv), ``summary`` (summary.json
+    as a dict: steps, cuts, iterations, timings, …) and ``out`` (the output folder, or None
+    when the run wrote into a temporary folder that is gone)."""
+
+    def __init__(self, history, summary: dict, out: Optional[Path]):
+        self.history = history
+        self.summary = summary
+        self.out = out
+
+    def __repr__(self) -> str:
+        return (
+            f"nmm.Result(status={self.summary.get('status')!r}, steps={self.summary.get('steps')}, "
+            f"rows={len(self.history)}, out={str(self.out) if self.out else None!r})"
+        )
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C during :func:`run`: the run stopped cleanly after its current step, as the
+    command line's does, and kept its outputs; ``result`` holds what it did."""
+
+    def __init__(self, result: Result):
+        super().__init__(f"interrupted at step {result.summary.get('steps')}")
+        self.result = result
+
+
+def read_history(path: Union[str, os.PathLike]):
+    """history.csv as a DataFrame with exactly its columns (numbers read back exactly)."""
+    import pandas as pd
+
+    # pandas ≥ 3 reads floats exactly by default (and deprecates the option)
+    exact = {"float_precision": "round_trip"} if int(pd.__version__.split(".")[0]) < 3 else {}
+    return pd.read_csv(path, **exact)
+
+
+def as_model(model: Any, base_dir: Union[str, os.PathLike, None] = None) -> Model:
+    """An :class:`Model` from a Model, a path to a model file, or TOML text."""
+    if isinstance(model, Model):
+        return model
+    if isinstance(model, os.PathLike):
+        return Model.load(os.fspath(model))
+    if isinstance(model, str):
+        if "\n" not in model and (model.strip().endswith(".toml") or os.path.isfile(model)):
+            return Model.load(model)
+        return Model.from_toml(model, os.fspath(base_dir) if base_dir is not None else ".")
+    raise TypeError(f"expected an nmm.Model, a path or TOML text, got {type(model).__name__}")
+
+
+def check(model: Any) -> dict:
+    """What ``nmm check --json`` prints for the model, as a dict (``blocks``, ``cracks``,
+    ``physical_covers``, ``manifold_elements``, ``unknowns``, ``block_area_total``,
+    ``smallest_block_area``, …; the same keys, from the same library function).
+    ``model``: an :class:`Model`, a path or TOML text."""
+    return _nmm.check(as_model(model))
+
+
+class _TextProgress:
+    """A one-line progress report on sys.stderr: step, simulated time, wall time."""
+
+    def __init__(self):
+        import time
+
+        self._time = time
+        self._start = time.monotonic()
+        self._last = -1.0
+
+    def __call__(self, step: int, total: int, t: float) -> None:
+        now = self._time.monotonic()
+        if step < total and now - self._last < 0.2:
+            return
+        self._last = now
+        end = "\n" if step >= total else ""
+        sys.stderr.write(
+            f"\rstep {step}/{total}  t = {t:.4g} s  [{now - self._start:.1f} s]{end}"
+        )
+        sys.stderr.flush()
+
+
+def run(
+    model: Any,
+    out: Union[str, os.PathLike, None] = None,
+    progress: Union[bool, Callable[[int, int, float], None]] = False,
+    threads: Optional[int] = None,
+    vtk: Optional[bool] = None,
+) -> Result:
+    """Run a model as ``nmm run MODEL --out OUT`` does and return its :class:`Result`.
+
+    ``model``: an :class:`Model`, a model file's path or TOML text. ``out``: the output
+    folder (created if missing); None runs into a temporary folder that is removed after
+    history.csv and summary.json are read (``Result.out`` is then None). ``vtk``: write the
+    VTK frames (default: True with ``out``, as ``nmm run``; False without). ``progress``:
+    True for a one-line report on stderr, or a callable ``f(step, total_steps, time)``
+    called about every 0.1 s from the calling thread. ``threads``: the most threads the run
+    may use (None: no limit); a run computes on one thread (the linear solver is sequential
+    by design, see ARCHITECTURE.md), so any value ≥ 1 is met.
+
+    The GIL is released while the run computes. Ctrl-C stops the run cleanly after its
+    current step, outputs kept, and raises :class:`Interrupted` (a KeyboardInterrupt) with
+    the partial result. A model that cannot be discretised raises :class:`ModelError`; a run
+    that stops on an error raises :class:`RunError` (outputs so far kept; its ``history``,
+    ``summary`` and ``out`` attributes hold them).
+    """
+    model = as_model(model)
+    if threads is not None and (not isinstance(threads, int) or threads < 1):
+        raise ValueError(f"threads: expected None or an integer ≥ 1, got {threads!r}")
+    callback = _TextProgress() if progress is True else (progress or None)
+    if callback is not None and not callable(callback):
+        raise TypeError("progress: expected a bool or a callable(step, total_steps, time)")
+    tmp = None
+    if out is None:
+        tmp = tempfile.mkdtemp(prefix="nmm-run-")
+        dest = Path(tmp)
+        vtk = bool(vtk)
+    else:
+        dest = Path(out)
+        vtk = True if vtk is None else bool(vtk)
+    try:
+        try:
+            summary, interrupted = _nmm.run_into(model, os.fspath(dest), vtk, callback)
+        except RunError as e:
+            _attach_outputs(e, dest, None if tmp else dest)
+            raise
+        result = Result(read_history(dest / "history.csv"), summary, None if tmp else dest)
+    finally:
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
+    if interrupted:
+        raise Interrupted(result)
+    return result
+
+
+def _attach_outputs(e: Exception, dest: Path, out: Optional[Path]) -> None:
+    import json
+
+    e.out = out
+    try:
+        e.history = read_history(dest / "history.csv")
+    except Exception:
+        e.history = None
+    try:
+        e.summary = json.loads((dest / "summary.json").read_text())
+    except Exception:
+        e.summary = None
+
+
+from . import study  # noqa: E402  (study imports nothing heavy until it runs)

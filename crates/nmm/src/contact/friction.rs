@@ -200,7 +200,21 @@ pub fn return_mapping(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -
         return stick(p, h, tn, dgs);
     }
     let s = sgn(trial);
-    let ts = s * strength;
+    slide(p, h, tn, dgs, s, s * strength)
+}
+
+/// The sliding response in direction `s` (±1) with shear force `ts`: consistent tangent
+/// ∂t_S/∂g_N = −s p_N tan φ, no shear stiffness; the elastic gap is what `ts` stretches,
+/// the rest of the trial gap is slip.
+pub fn slide(
+    p: &FrictionParams,
+    h: &ShearHistory,
+    tn: f64,
+    dgs: f64,
+    s: f64,
+    ts: f64,
+) -> LawResponse {
+    let trial = p.ps * (h.ge + dgs);
     LawResponse {
         tn,
         ts,
@@ -210,7 +224,7 @@ pub fn return_mapping(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -
         dts_dgs: 0.0,
         status: ContactStatus::Slide,
         ge: ts / p.ps,
-        slip: s * (trial.abs() - strength) / p.ps,
+        slip: (trial - ts) / p.ps,
     }
 }
 

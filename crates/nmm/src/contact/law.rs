@@ -161,19 +161,7 @@ impl FrictionLaw for ReturnMapping {
             Branch::Slide(s) => {
                 let s = f64::from(s);
                 // t_S = s (−tan φ p_N g_N + c): the affine continuation of s·S(t_N)
-                let ts = s * (-p.tan_phi * tn + p.cohesion);
-                let trial = p.ps * (h.ge + dgs);
-                LawResponse {
-                    tn,
-                    ts,
-                    dtn_dgn: p.pn,
-                    dtn_dgs: 0.0,
-                    dts_dgn: -s * p.pn * p.tan_phi,
-                    dts_dgs: 0.0,
-                    status: ContactStatus::Slide,
-                    ge: ts / p.ps,
-                    slip: (trial - ts) / p.ps,
-                }
+                friction::slide(p, h, tn, dgs, s, s * (-p.tan_phi * tn + p.cohesion))
             }
         }
     }

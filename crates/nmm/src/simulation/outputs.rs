@@ -684,6 +684,9 @@ fn step_to_end(
     summary.output_time += t_out.elapsed();
     let mut checkpoints = Checkpoints::new(out, opts);
     progress.start(sim.full_steps_done(), sim.total_steps());
+    // running totals for the progress line (a resumed run starts from its checkpoint's)
+    let mut solves_total: usize = summary.solves.iter().sum();
+    let mut cuts_total: usize = summary.cut_steps.iter().map(|c| c.1).sum();
     while !sim.finished() {
         let rep = match sim.advance() {
             Ok(r) => r,
@@ -704,9 +707,11 @@ fn step_to_end(
         if rep.cuts > 0 {
             // one line for all of them at the end (RunSummary::cut_line), not one per cut
             summary.cut_steps.push((sim.step, rep.cuts));
+            cuts_total += rep.cuts;
         }
         summary.iterations.push(rep.iterations);
         summary.solves.push(rep.solves);
+        solves_total += rep.solves;
         summary.active_set_changes += rep.active_set_changes;
         summary.not_in_equilibrium += usize::from(!rep.equilibrium);
         summary.last_equilibrium = rep.equilibrium;
@@ -790,11 +795,7 @@ fn step_to_end(
         }
         summary.output_time += t_out.elapsed();
         progress.step_done(sim.full_steps_done(), sim.time);
-        progress.counts(
-            summary.solves.iter().sum(),
-            summary.cut_steps.iter().map(|c| c.1).sum(),
-            summary.active_set_changes,
-        );
+        progress.counts(solves_total, cuts_total, summary.active_set_changes);
         if interrupted {
             summary.interrupted = true;
             break;

@@ -5,42 +5,35 @@
 //! a fixed block is held in the frame of the base).
 
 pub use crate::cover::basis::{element_dofs, NO_DOF};
-use crate::solver::{SparseMatrix, SparsePattern};
+use crate::solver::SparsePattern;
 
-/// The free unknowns of a local dof list.
-pub fn free(dofs: &[usize]) -> Vec<usize> {
-    dofs.iter().copied().filter(|&d| d != NO_DOF).collect()
-}
-
-/// Pattern of all couplings: every group's free unknowns couple with each other.
-pub fn pattern(n: usize, groups: &[Vec<usize>]) -> SparsePattern {
-    SparsePattern::from_groups(n, groups.iter().map(|g| g.as_slice()))
-}
-
-/// A[dofs, dofs] += k (row-major `m × m`, `m = dofs.len()`), skipping [`NO_DOF`].
-pub fn scatter_matrix(a: &mut SparseMatrix, dofs: &[usize], k: &[f64]) {
+/// The slots in `pattern` of every entry (row, col) of a dof group, row-major over
+/// `dofs` (`dofs.len()²` of them), `u32::MAX` where either dof is [`NO_DOF`]. Every coupling
+/// of the group must be in the pattern.
+pub fn group_slots(pattern: &SparsePattern, dofs: &[usize], out: &mut [u32]) {
     let m = dofs.len();
-    for (i, &ri) in dofs.iter().enumerate() {
-        if ri == NO_DOF {
-            continue;
-        }
-        for (j, &cj) in dofs.iter().enumerate() {
-            if cj == NO_DOF {
-                continue;
-            }
-            let v = k[i * m + j];
-            if v != 0.0 {
-                a.add(ri, cj, v);
-            }
+    for (j, &col) in dofs.iter().enumerate() {
+        for (i, &row) in dofs.iter().enumerate() {
+            out[i * m + j] = if row == NO_DOF || col == NO_DOF {
+                u32::MAX
+            } else {
+                pattern
+                    .slot(row, col)
+                    .expect("a coupling of the group is missing from the pattern")
+                    as u32
+            };
         }
     }
 }
 
-/// f[dofs] += v, skipping [`NO_DOF`].
-pub fn scatter_vector(f: &mut [f64], dofs: &[usize], v: &[f64]) {
-    for (&d, &x) in dofs.iter().zip(v) {
-        if d != NO_DOF {
-            f[d] += x;
+/// values[slots] += local: the ordered scatter of one local block (entries at `u32::MAX`
+/// are skipped). Local blocks may be computed in any order, on any thread; scattering them
+/// in a fixed order makes the sums the same whatever the thread count.
+#[inline]
+pub fn scatter(values: &mut [f64], slots: &[u32], local: &[f64]) {
+    for (&s, &v) in slots.iter().zip(local) {
+        if s != u32::MAX {
+            values[s as usize] += v;
         }
     }
 }

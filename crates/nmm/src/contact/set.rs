@@ -60,7 +60,6 @@ use crate::cover::basis::{directional_row, ELEMENT_DOFS, NO_DOF};
 use crate::cover::{barycentric, Discretisation};
 use crate::geometry::{cross, dot, norm, sub, Aabb, Vec2};
 use crate::model::{FrictionAlgorithm, Model};
-use crate::solver::SparsePattern;
 use std::collections::HashMap;
 
 mod saved;
@@ -193,10 +192,9 @@ pub struct ContactSet {
     /// For each block, each boundary segment's polygon edge as (first, last) vertex indices
     /// of the refined boundary (the corners that bound it). Built at the first detection.
     faces: Vec<Vec<(usize, usize)>>,
-    /// Positions of each contact's tangent entries in the bound pattern
-    /// (`CONTACT_DOFS²` per contact, row-major, `u32::MAX` where a dof is missing).
-    slots: Vec<u32>,
-    bound: Option<std::sync::Arc<SparsePattern>>,
+    /// Bumped whenever the contacts are replaced (detection, restore): the tangent pattern
+    /// binds its slots to one generation.
+    generation: u64,
 }
 
 impl Default for ContactSet {
@@ -210,8 +208,7 @@ impl Default for ContactSet {
             spacing: 0.0,
             commits: 0,
             faces: Vec::new(),
-            slots: Vec::new(),
-            bound: None,
+            generation: 0,
         }
     }
 }
@@ -303,7 +300,7 @@ impl ContactSet {
     pub fn detect(&mut self, disc: &Discretisation, model: &Model, u: &[f64], search: f64) {
         self.law = law_for(model.analysis.friction);
         self.contacts.clear();
-        self.bound = None;
+        self.generation += 1;
         if model.blocks.len() < 2 {
             return;
         }
@@ -469,62 +466,9 @@ impl ContactSet {
         }
     }
 
-    /// The free unknowns each contact couples (for the sparsity pattern).
-    pub fn dof_groups(&self) -> Vec<Vec<usize>> {
-        self.contacts
-            .iter()
-            .map(|c| {
-                let mut g: Vec<usize> = c.dofs.iter().copied().filter(|&d| d != NO_DOF).collect();
-                g.sort_unstable();
-                g.dedup();
-                g
-            })
-            .collect()
-    }
-
-    /// Whether every contact's couplings are in `pattern`.
-    pub fn fits(&self, pattern: &SparsePattern) -> bool {
-        self.contacts.iter().all(|c| {
-            c.dofs.iter().filter(|&&d| d != NO_DOF).all(|&col| {
-                c.dofs
-                    .iter()
-                    .filter(|&&d| d != NO_DOF)
-                    .all(|&row| pattern.slot(row, col).is_some())
-            })
-        })
-    }
-
-    /// Precompute the positions of every contact's tangent entries in `pattern` (which
-    /// must hold them, see [`ContactSet::fits`]).
-    pub fn bind(&mut self, pattern: &std::sync::Arc<SparsePattern>) {
-        if self
-            .bound
-            .as_ref()
-            .is_some_and(|b| std::sync::Arc::ptr_eq(b, pattern))
-        {
-            return;
-        }
-        let n2 = CONTACT_DOFS * CONTACT_DOFS;
-        self.slots.clear();
-        self.slots.resize(self.contacts.len() * n2, u32::MAX);
-        for (ci, c) in self.contacts.iter().enumerate() {
-            let s = &mut self.slots[ci * n2..(ci + 1) * n2];
-            for (ii, &row) in c.dofs.iter().enumerate() {
-                if row == NO_DOF {
-                    continue;
-                }
-                for (jj, &col) in c.dofs.iter().enumerate() {
-                    if col == NO_DOF {
-                        continue;
-                    }
-                    let k = pattern
-                        .slot(row, col)
-                        .expect("contact coupling missing from the pattern");
-                    s[ii * CONTACT_DOFS + jj] = k as u32;
-                }
-            }
-        }
-        self.bound = Some(pattern.clone());
+    /// Which contact list this is: bumped whenever the contacts are replaced.
+    pub fn generation(&self) -> u64 {
+        self.generation
     }
 
     /// Choose each contact's branch at the iterate Δu = `du` (the law's
@@ -656,35 +600,32 @@ impl ContactSet {
             .all(|c| c.coef[1] == 0.0 && c.coef[2] == 0.0)
     }
 
-    /// Add the tangent of the chosen branches into `values` (over the bound pattern).
-    /// `symmetric`: only its symmetric positive part — the normal spring and the stick shear
-    /// spring, without the unsymmetric coupling of sliding contacts (a preconditioner).
-    pub fn assemble_tangent(&self, values: &mut [f64], symmetric: bool) {
-        let n2 = CONTACT_DOFS * CONTACT_DOFS;
-        for (ci, c) in self.contacts.iter().enumerate() {
-            let [a, mut b, mut cc, d] = c.coef;
-            if symmetric {
-                b = 0.0;
-                cc = 0.0;
-            }
-            if a == 0.0 && b == 0.0 && cc == 0.0 && d == 0.0 {
-                continue;
-            }
-            let s = &self.slots[ci * n2..(ci + 1) * n2];
-            for jj in 0..CONTACT_DOFS {
-                if c.dofs[jj] == NO_DOF {
-                    continue;
-                }
-                let vn = a * c.bn[jj] + b * c.bs[jj];
-                let vs = cc * c.bn[jj] + d * c.bs[jj];
-                for ii in 0..CONTACT_DOFS {
-                    let k = s[ii * CONTACT_DOFS + jj];
-                    if k != u32::MAX {
-                        values[k as usize] += c.bn[ii] * vn + c.bs[ii] * vs;
-                    }
-                }
+    /// The local tangent block of contact `c` on its chosen branch, row-major over its
+    /// [`CONTACT_DOFS`] unknowns (local work: the caller scatters it), or `None` when it is
+    /// zero (an open contact). `symmetric`: only its symmetric positive part — the normal
+    /// spring and the stick shear spring, without the unsymmetric coupling of a sliding
+    /// contact (a preconditioner).
+    pub fn tangent_block(
+        c: &Contact,
+        symmetric: bool,
+    ) -> Option<[f64; CONTACT_DOFS * CONTACT_DOFS]> {
+        let [a, mut b, mut cc, d] = c.coef;
+        if symmetric {
+            b = 0.0;
+            cc = 0.0;
+        }
+        if a == 0.0 && b == 0.0 && cc == 0.0 && d == 0.0 {
+            return None;
+        }
+        let mut k = [0.0; CONTACT_DOFS * CONTACT_DOFS];
+        for jj in 0..CONTACT_DOFS {
+            let vn = a * c.bn[jj] + b * c.bs[jj];
+            let vs = cc * c.bn[jj] + d * c.bs[jj];
+            for ii in 0..CONTACT_DOFS {
+                k[ii * CONTACT_DOFS + jj] = c.bn[ii] * vn + c.bs[ii] * vs;
             }
         }
+        Some(k)
     }
 
     /// Counts of the chosen branches.

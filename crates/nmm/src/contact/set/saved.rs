@@ -43,6 +43,6 @@ impl ContactSet {
         self.committed = s.committed.iter().map(|(k, h, n)| (*k, (*h, *n))).collect();
         self.seen = s.seen.iter().copied().collect();
         self.contacts.clear();
-        self.bound = None;
+        self.generation += 1;
     }
 }

@@ -397,7 +397,10 @@ impl Simulation {
         for g in &self.ghosts {
             groups.push(g.dofs.iter().copied().filter(|&x| x != NO_DOF).collect());
         }
-        let pattern = Arc::new(crate::assembly::global::pattern(self.n_dofs(), &groups));
+        let pattern = Arc::new(SparsePattern::from_groups(
+            self.n_dofs(),
+            groups.iter().map(|g| g.as_slice()),
+        ));
         let slot = |r: usize, c: usize| -> u32 {
             if r == NO_DOF || c == NO_DOF {
                 u32::MAX
@@ -834,21 +837,42 @@ impl Simulation {
         let mut du = vec![0.0; n];
         let (rep, equilibrium) = if static_mode {
             let sigma0 = cm.max(self.static_regularisation());
-            // Newton with continuation in its tangent first, from DDA's inertia of Δt (cheap
-            // when it works), then the continuation with inner solves from at least the
-            // model's regularisation (robust), then no equilibrium
-            let mut rep = self.solve(
-                &rhs,
-                0.0,
-                None,
-                Regularisation::Continuation {
-                    initial: cm,
-                    floor: 1e-6 * cm,
-                },
-                1,
-                None,
-                &mut du,
-            );
+            // Without contacts the problem is linear: one solve of K Δu = F is the
+            // equilibrium (if K holds every block). Otherwise, and when that fails (a block
+            // that nothing holds), Newton with continuation in its tangent first, from DDA's
+            // inertia of Δt (cheap when it works), then the continuation with inner solves
+            // from at least the model's regularisation (robust), then no equilibrium.
+            let mut rep = crate::solver::NewtonReport::default();
+            if self.contacts.contacts.is_empty() {
+                rep = self.solve(
+                    &rhs,
+                    0.0,
+                    None,
+                    Regularisation::None { fallback: cm },
+                    0,
+                    None,
+                    &mut du,
+                );
+                if !rep.converged {
+                    du.iter_mut().for_each(|x| *x = 0.0);
+                }
+            }
+            if !rep.converged {
+                let spent = rep.iterations;
+                rep = self.solve(
+                    &rhs,
+                    0.0,
+                    None,
+                    Regularisation::Continuation {
+                        initial: cm,
+                        floor: 1e-6 * cm,
+                    },
+                    1,
+                    None,
+                    &mut du,
+                );
+                rep.iterations += spent;
+            }
             let mut reached = rep.converged;
             if !reached && rep.error.is_none() {
                 du.iter_mut().for_each(|x| *x = 0.0);

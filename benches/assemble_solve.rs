@@ -7,7 +7,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use nmm::generate::elastic_block;
 use nmm::model::parse_model;
 use nmm::simulation::Simulation;
-use nmm::solver::{AutoSolver, LinearSolver};
+use nmm::solver::{AutoSolver, DirectSolver};
 use std::time::Duration;
 
 fn sizes() -> Vec<usize> {

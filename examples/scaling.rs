@@ -10,7 +10,7 @@
 use nmm::generate::elastic_block;
 use nmm::model::parse_model;
 use nmm::simulation::Simulation;
-use nmm::solver::{AutoSolver, LinearSolver};
+use nmm::solver::{AutoSolver, DirectSolver};
 use std::time::Instant;
 
 fn main() {

@@ -39,8 +39,8 @@ use crate::cover::{discretise_through, Discretisation, MaterialPoint};
 use crate::material::{elasticity_matrix, stress as hooke, Mat3};
 use crate::model::{Mode, Model, TimeFunction};
 use crate::solver::{
-    solve_piecewise, LinearStats, NewtonOptions, Regularisation, SparseMatrix, SparsePattern,
-    StageTimes, TangentSolver, MAX_REJECTIONS,
+    solve_piecewise, LinearSolver, LinearStats, NewtonOptions, Regularisation, SparseMatrix,
+    SparsePattern, StageTimes, TangentSolver, MAX_REJECTIONS,
 };
 use crate::time;
 use std::sync::Arc;
@@ -246,7 +246,8 @@ pub struct Simulation {
     /// Material point of each point monitor (None for interface monitors).
     pub(crate) monitor_points: Vec<Option<MaterialPoint>>,
     linear: LinearParts,
-    solver: TangentSolver,
+    /// The linear solver (the one interface: [`LinearSolver`]).
+    solver: Box<dyn LinearSolver>,
     /// The inertia coefficient of the tangent the solver's factorisation was made for, and
     /// the step it was made in.
     solver_cm: Option<f64>,
@@ -344,7 +345,7 @@ impl Simulation {
                 element_internal: Vec::new(),
                 step: None,
             },
-            solver: TangentSolver::default(),
+            solver: Box::new(TangentSolver::default()),
             solver_cm: None,
             solver_step: None,
             contacts_current: false,
@@ -1095,7 +1096,7 @@ impl Simulation {
         rhs: &Rhs,
         cm: f64,
         anchor: Option<(&[f64], f64)>,
-        f: impl FnOnce(&mut StepSystem, &mut TangentSolver) -> T,
+        f: impl FnOnce(&mut StepSystem, &mut dyn LinearSolver) -> T,
     ) -> T {
         let lp = &mut self.linear;
         // Rayleigh damping (dynamic only): (2/Δt) C
@@ -1142,7 +1143,7 @@ impl Simulation {
             scale: 0.0,
             work: Vec::with_capacity(rhs.f.len()),
         };
-        f(&mut sys, &mut self.solver)
+        f(&mut sys, &mut *self.solver)
     }
 
     /// A static step by pseudo-transient continuation with inner Newton solves: from

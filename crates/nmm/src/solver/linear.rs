@@ -1,4 +1,4 @@
-//! Direct sparse solvers behind one small trait, so that another backend
+//! Direct sparse solvers behind one small trait ([`DirectSolver`]), so that another backend
 //! (e.g. UMFPACK for very large unsymmetric systems) can be plugged in.
 //!
 //! The symbolic analysis (fill-reducing ordering, elimination tree) depends only
@@ -25,7 +25,7 @@ pub enum SolveError {
 }
 
 /// Factorise once, solve many times.
-pub trait LinearSolver {
+pub trait DirectSolver {
     /// Factorise `a` (reusing the symbolic analysis when the pattern is unchanged).
     fn factorize(&mut self, a: &SparseMatrix) -> Result<(), SolveError>;
     /// Solve A x = b in place (b becomes x) with the last factorisation.
@@ -112,7 +112,7 @@ impl<S: Clone, N: Solve<f64>> Cached<S, N> {
 #[derive(Default)]
 pub struct FaerCholesky(Cached<SymbolicLlt<usize>, Llt<usize, f64>>);
 
-impl LinearSolver for FaerCholesky {
+impl DirectSolver for FaerCholesky {
     fn factorize(&mut self, a: &SparseMatrix) -> Result<(), SolveError> {
         self.0.factorize(
             a,
@@ -138,7 +138,7 @@ impl LinearSolver for FaerCholesky {
 #[derive(Default)]
 pub struct FaerLu(Cached<SymbolicLu<usize>, Lu<usize, f64>>);
 
-impl LinearSolver for FaerLu {
+impl DirectSolver for FaerLu {
     fn factorize(&mut self, a: &SparseMatrix) -> Result<(), SolveError> {
         self.0.factorize(
             a,
@@ -187,7 +187,7 @@ impl AutoSolver {
     }
 }
 
-impl LinearSolver for AutoSolver {
+impl DirectSolver for AutoSolver {
     fn factorize(&mut self, a: &SparseMatrix) -> Result<(), SolveError> {
         let sym = a.is_symmetric(1e-13);
         self.factorize_with(a, sym)

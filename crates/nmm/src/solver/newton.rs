@@ -45,7 +45,7 @@
 //! The iteration count is the number of linear solves, rejected directions included.
 
 use super::linear::SolveError;
-use super::tangent::{LinearStats, TangentOperator, TangentSolver};
+use super::tangent::{LinearSolver, LinearStats, TangentOperator};
 use std::time::{Duration, Instant};
 
 /// Per-stage wall-clock times, summed over iterations and steps.
@@ -165,13 +165,13 @@ fn norm(v: &[f64]) -> f64 {
 /// Solve R(x) = 0 from the initial guess in `x` (updated in place); see the module docs.
 pub fn solve_piecewise(
     sys: &mut dyn PiecewiseSystem,
-    lin: &mut TangentSolver,
+    lin: &mut dyn LinearSolver,
     x: &mut [f64],
     opts: NewtonOptions,
 ) -> NewtonReport {
     let n = x.len();
     let mut rep = NewtonReport::default();
-    let stats0 = lin.stats;
+    let stats0 = lin.stats();
     let mut r = vec![0.0; n];
     let mut rb = vec![0.0; n];
     let mut d = vec![0.0; n];
@@ -348,7 +348,7 @@ pub fn solve_piecewise(
         x.copy_from_slice(&best);
     }
     rep.final_regularisation = sigma;
-    let mut ls = lin.stats;
+    let mut ls = lin.stats();
     ls.solves -= stats0.solves;
     ls.gmres_iterations -= stats0.gmres_iterations;
     ls.factorisations -= stats0.factorisations;
@@ -366,7 +366,7 @@ pub fn solve_piecewise(
 #[allow(clippy::needless_range_loop)]
 mod tests {
     use super::*;
-    use crate::solver::SparsePattern;
+    use crate::solver::{SparsePattern, TangentSolver};
     use std::sync::Arc;
 
     /// A chain of n unit springs between a wall and unknowns x_i, each unknown also resting

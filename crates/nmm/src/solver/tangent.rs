@@ -23,7 +23,7 @@
 
 use super::cholesky::Cholesky;
 use super::krylov::Gmres;
-use super::linear::{FaerLu, LinearSolver, SolveError};
+use super::linear::{DirectSolver, FaerLu, SolveError};
 use super::sparse::{SparseMatrix, SparsePattern};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -40,6 +40,32 @@ pub trait TangentOperator {
     fn assemble(&mut self, values: &mut [f64], symmetric: bool);
     /// Whether A equals its symmetric part.
     fn is_symmetric(&self) -> bool;
+}
+
+/// The linear solver of the Newton driver and of [`crate::simulation::Simulation`]: solves
+/// with a step's tangent, given as an operator that applies and assembles itself.
+/// [`TangentSolver`] is the one nmm uses; another (an iterative solver for millions of
+/// unknowns, a GPU one) is one new implementation of this trait.
+pub trait LinearSolver: Send {
+    /// Solve A x = rhs to ‖rhs − A x‖ ≤ `rtol` ‖rhs‖ (`x` holds a first guess on entry).
+    fn solve(
+        &mut self,
+        op: &mut dyn TangentOperator,
+        rhs: &[f64],
+        x: &mut [f64],
+        rtol: f64,
+    ) -> Result<(), SolveError>;
+    /// Forget what the solver holds for the tangent (its next solve starts afresh): at the
+    /// start of every step, and when the inertia coefficient or the regularisation
+    /// changed. A solver must compute the same results after this as a new one, so that a
+    /// run resumed from a checkpoint repeats the uninterrupted run bit for bit.
+    fn invalidate(&mut self);
+    /// Counts and times of the solves so far.
+    fn stats(&self) -> LinearStats;
+    /// Stored values of the factor it holds (for memory reports; 0 for none).
+    fn factor_len(&self) -> usize {
+        0
+    }
 }
 
 /// Counts and times of the linear solves.
@@ -111,17 +137,32 @@ impl Default for TangentSolver {
     }
 }
 
-impl TangentSolver {
-    /// Make the next solve refresh the factorisation (e.g. after Δt changed).
-    pub fn invalidate(&mut self) {
+impl LinearSolver for TangentSolver {
+    fn solve(
+        &mut self,
+        op: &mut dyn TangentOperator,
+        rhs: &[f64],
+        x: &mut [f64],
+        rtol: f64,
+    ) -> Result<(), SolveError> {
+        TangentSolver::solve(self, op, rhs, x, rtol)
+    }
+
+    /// The next solve refreshes the factorisation.
+    fn invalidate(&mut self) {
         self.refresh = true;
     }
 
-    /// Stored values of the held Cholesky factor (for memory reports).
-    pub fn factor_len(&self) -> usize {
-        self.chol.factor_len()
+    fn stats(&self) -> LinearStats {
+        self.stats
     }
 
+    fn factor_len(&self) -> usize {
+        self.chol.factor_len()
+    }
+}
+
+impl TangentSolver {
     fn matrix_for(
         &mut self,
         op: &mut dyn TangentOperator,

@@ -44,6 +44,10 @@ enum Command {
         /// materials and stages up to the checkpoint must be those of the saved run.
         #[arg(long, value_name = "CHECKPOINT")]
         from: Option<PathBuf>,
+        /// Threads to compute on (default: NMM_THREADS, else the cores the process may
+        /// use); the results are the same, bit for bit, whatever the count.
+        #[arg(long, value_name = "N", value_parser = parse_threads)]
+        threads: Option<usize>,
     },
     /// Continue an interrupted (or finished) run in DIR from its latest checkpoint, with
     /// the options it was started with; its outputs continue as if it had not stopped.
@@ -53,6 +57,9 @@ enum Command {
         /// Do not print the model's warnings.
         #[arg(long)]
         quiet: bool,
+        /// Threads to compute on (as for `run`; the results do not depend on it).
+        #[arg(long, value_name = "N", value_parser = parse_threads)]
+        threads: Option<usize>,
     },
     /// Validate a model and print a summary (blocks, covers, elements, unknowns) without running it.
     Check {
@@ -91,6 +98,7 @@ fn main() -> ExitCode {
             quiet,
             checkpoint_every,
             from,
+            threads,
         } => run(
             &model,
             &out,
@@ -99,8 +107,13 @@ fn main() -> ExitCode {
             quiet,
             checkpoint_every.unwrap_or(0),
             from.as_deref(),
+            threads,
         ),
-        Command::Resume { dir, quiet } => resume(&dir, quiet),
+        Command::Resume {
+            dir,
+            quiet,
+            threads,
+        } => resume(&dir, quiet, threads),
         Command::Check { model, json, quiet } => check(&model, json, quiet),
         Command::Verify { out, full } => verify(&out, full),
         Command::Figures { out } => figures(&out),
@@ -264,6 +277,7 @@ fn run(
     quiet: bool,
     checkpoint_every: usize,
     from: Option<&Path>,
+    threads: Option<usize>,
 ) -> anyhow::Result<ExitCode> {
     let friction = friction_override(friction)?;
     let model = load(path, friction)?;
@@ -291,11 +305,12 @@ fn run(
         checkpoint_every,
         friction,
         start,
+        threads,
     };
     execute(model, path, out, opts, quiet)
 }
 
-fn resume(dir: &Path, quiet: bool) -> anyhow::Result<ExitCode> {
+fn resume(dir: &Path, quiet: bool, threads: Option<usize>) -> anyhow::Result<ExitCode> {
     use nmm::simulation::checkpoint::Checkpoint;
     let Some(c) = nmm::simulation::latest_checkpoint(dir) else {
         anyhow::bail!(
@@ -330,6 +345,7 @@ fn resume(dir: &Path, quiet: bool) -> anyhow::Result<ExitCode> {
         checkpoint_every: ckpt.options.checkpoint_every,
         friction: ckpt.options.friction,
         start: nmm::simulation::Start::Resume(Box::new(ckpt)),
+        threads,
     };
     execute(model, &path, dir, opts, quiet)
 }
@@ -482,4 +498,9 @@ fn figures(out: &Path) -> anyhow::Result<ExitCode> {
         println!("{}", f.display());
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// `--threads N`: an integer ≥ 1.
+fn parse_threads(v: &str) -> Result<usize, String> {
+    nmm::parallel::parse_threads(v)
 }

@@ -136,9 +136,9 @@ def run(
     history.csv and summary.json are read (``Result.out`` is then None). ``vtk``: write the
     VTK frames (default: True with ``out``, as ``nmm run``; False without). ``progress``:
     True for a one-line report on stderr, or a callable ``f(step, total_steps, time)``
-    called about every 0.1 s from the calling thread. ``threads``: the most threads the run
-    may use (None: no limit); a run computes on one thread (the linear solver is sequential
-    by design, see ARCHITECTURE.md), so any value ≥ 1 is met.
+    called about every 0.1 s from the calling thread. ``threads``: the threads the run
+    computes on (None: ``NMM_THREADS``, else the cores the process may use), as
+    ``nmm run --threads``; the results are the same, bit for bit, whatever the count.
 
     The GIL is released while the run computes. Ctrl-C stops the run cleanly after its
     current step, outputs kept, and raises :class:`Interrupted` (a KeyboardInterrupt) with
@@ -162,7 +162,7 @@ def run(
         vtk = True if vtk is None else bool(vtk)
     try:
         try:
-            summary, interrupted = _nmm.run_into(model, os.fspath(dest), vtk, callback)
+            summary, interrupted = _nmm.run_into(model, os.fspath(dest), vtk, callback, threads)
         except RunError as e:
             _attach_outputs(e, dest, None if tmp else dest)
             raise

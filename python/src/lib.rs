@@ -885,13 +885,14 @@ impl nmm::simulation::RunObserver for Observer {
 /// interrupted); raises `ModelError` for a model that cannot be discretised and `RunError`
 /// for a run that stopped on an error (outputs kept).
 #[pyfunction]
-#[pyo3(signature = (model, out, vtk = true, progress = None))]
+#[pyo3(signature = (model, out, vtk = true, progress = None, threads = None))]
 fn run_into<'py>(
     py: Python<'py>,
     model: &Bound<'py, Model>,
     out: PathBuf,
     vtk: bool,
     progress: Option<Bound<'py, PyAny>>,
+    threads: Option<usize>,
 ) -> PyResult<(Bound<'py, PyAny>, bool)> {
     let m = model.borrow();
     let inner = m.model.clone();
@@ -904,6 +905,7 @@ fn run_into<'py>(
         interrupt: Some(Arc::new(AtomicBool::new(false))),
         vtk,
         model_path,
+        threads,
         ..nmm::simulation::RunOptions::new()
     };
     let stop = opts.interrupt.clone().expect("set above");

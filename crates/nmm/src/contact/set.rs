@@ -183,6 +183,9 @@ pub struct ContactSet {
     /// Every contact of the last committed step, open ones included.
     seen: std::collections::HashSet<ContactKey>,
     law: &'static dyn FrictionLaw,
+    /// The run's threads: the laws of the contacts are evaluated on them (local work), the
+    /// forces scattered in contact order.
+    pub threads: crate::parallel::Threads,
     /// Gaps up to this count as touching (`REL_TOL` × the model's size).
     touch_tol: f64,
     /// Mean length of the boundary segments of the model's blocks, s̄ (m).
@@ -204,6 +207,7 @@ impl Default for ContactSet {
             committed: HashMap::new(),
             seen: std::collections::HashSet::new(),
             law: law_for(FrictionAlgorithm::ReturnMapping),
+            threads: Default::default(),
             touch_tol: 0.0,
             spacing: 0.0,
             commits: 0,
@@ -476,21 +480,29 @@ impl ContactSet {
     /// how many contacts changed branch (at the first iterate: how many are not open).
     pub fn choose_branches(&mut self, du: &[f64], first: bool) -> usize {
         let law = self.law;
-        let mut changed = 0;
-        for c in self.contacts.iter_mut() {
+        let cs = &self.contacts;
+        let chosen = self.threads.map(cs.len(), |i| {
+            let c = &cs[i];
             let (gn, gs) = c.gaps(du);
             let ctx = IterationContext {
                 previous: (!first).then_some(c.branch),
                 touching: c.touching,
             };
             let b = law.iteration_branch(&c.params, &c.history, gn, gs, ctx);
+            (
+                b,
+                tangent4(&law.on_branch(&c.params, &c.history, gn, gs, b)),
+            )
+        });
+        let mut changed = 0;
+        for (c, (b, coef)) in self.contacts.iter_mut().zip(chosen) {
             changed += usize::from(if first {
                 b != Branch::Open
             } else {
                 b != c.branch
             });
             c.branch = b;
-            c.coef = tangent4(&law.on_branch(&c.params, &c.history, gn, gs, b));
+            c.coef = coef;
         }
         changed
     }
@@ -499,13 +511,21 @@ impl ContactSet {
     /// many contacts changed branch.
     pub fn choose_own_branches(&mut self, du: &[f64]) -> usize {
         let law = self.law;
-        let mut changed = 0;
-        for c in self.contacts.iter_mut() {
+        let cs = &self.contacts;
+        let chosen = self.threads.map(cs.len(), |i| {
+            let c = &cs[i];
             let (gn, gs) = c.gaps(du);
             let b = law.branch(&c.params, &c.history, gn, gs);
+            (
+                b,
+                tangent4(&law.on_branch(&c.params, &c.history, gn, gs, b)),
+            )
+        });
+        let mut changed = 0;
+        for (c, (b, coef)) in self.contacts.iter_mut().zip(chosen) {
             changed += usize::from(b != c.branch);
             c.branch = b;
-            c.coef = tangent4(&law.on_branch(&c.params, &c.history, gn, gs, b));
+            c.coef = coef;
         }
         changed
     }
@@ -516,18 +536,27 @@ impl ContactSet {
     /// one chosen (0: the chosen active set is consistent at `du`).
     pub fn add_forces(&mut self, du: &[f64], r: &mut [f64], own: bool) -> usize {
         let law = self.law;
-        let mut inconsistent = 0;
-        for c in self.contacts.iter_mut() {
+        let cs = &self.contacts;
+        // local work: each contact's law at du (in parallel), then the ordered scatter
+        let responses = self.threads.map(cs.len(), |i| {
+            let c = &cs[i];
             let (gn, gs) = c.gaps(du);
-            let resp = if own {
+            if own {
                 let b = law.branch(&c.params, &c.history, gn, gs);
-                if b != c.branch {
-                    inconsistent += 1;
-                }
-                law.on_branch(&c.params, &c.history, gn, gs, b)
+                (
+                    b != c.branch,
+                    law.on_branch(&c.params, &c.history, gn, gs, b),
+                )
             } else {
-                law.on_branch(&c.params, &c.history, gn, gs, c.branch)
-            };
+                (
+                    false,
+                    law.on_branch(&c.params, &c.history, gn, gs, c.branch),
+                )
+            }
+        });
+        let mut inconsistent = 0;
+        for (c, (other, resp)) in self.contacts.iter_mut().zip(responses) {
+            inconsistent += usize::from(other);
             if own {
                 c.response = resp;
             }
@@ -575,14 +604,20 @@ impl ContactSet {
 
     /// y += K_c v with the tangent of the chosen branches (matrix-free).
     pub fn apply_tangent(&self, v: &[f64], y: &mut [f64]) {
-        for c in &self.contacts {
+        let cs = &self.contacts;
+        let forces = self.threads.map(cs.len(), |i| {
+            let c = &cs[i];
             let [a, b, cc, d] = c.coef;
             if a == 0.0 && b == 0.0 && cc == 0.0 && d == 0.0 {
-                continue;
+                return None;
             }
             let (gn, gs) = c.rates(v);
-            let tn = a * gn + b * gs;
-            let ts = cc * gn + d * gs;
+            Some((a * gn + b * gs, cc * gn + d * gs))
+        });
+        for (c, f) in cs.iter().zip(forces) {
+            let Some((tn, ts)) = f else {
+                continue;
+            };
             for i in 0..CONTACT_DOFS {
                 let k = c.dofs[i];
                 if k != NO_DOF {

@@ -246,6 +246,8 @@ pub struct Simulation {
     /// Material point of each point monitor (None for interface monitors).
     pub(crate) monitor_points: Vec<Option<MaterialPoint>>,
     linear: LinearParts,
+    /// The run's threads (local work of elements and contacts).
+    pub(crate) threads: crate::parallel::Threads,
     /// The linear solver (the one interface: [`LinearSolver`]).
     solver: Box<dyn LinearSolver>,
     /// The inertia coefficient of the tangent the solver's factorisation was made for, and
@@ -346,6 +348,7 @@ impl Simulation {
                 step: None,
             },
             solver: Box::new(TangentSolver::default()),
+            threads: Default::default(),
             solver_cm: None,
             solver_step: None,
             contacts_current: false,
@@ -439,6 +442,18 @@ impl Simulation {
         lp.c = if damped { vec![0.0; nnz] } else { Vec::new() };
         lp.tangent = TangentPattern::new(pattern, groups);
         lp.step = None;
+    }
+
+    /// Compute on `threads` (the results do not depend on their count, see
+    /// [`crate::parallel`]).
+    pub fn set_threads(&mut self, threads: crate::parallel::Threads) {
+        self.contacts.threads = threads.clone();
+        self.threads = threads;
+    }
+
+    /// The number of threads the simulation computes on.
+    pub fn threads(&self) -> usize {
+        self.threads.count()
     }
 
     pub fn n_dofs(&self) -> usize {
@@ -681,17 +696,28 @@ impl Simulation {
             .resize(n_el, [0.0; ELEMENT_DOFS * ELEMENT_DOFS]);
         lp.element_body.resize(n_el, [0.0; 3]);
         lp.element_internal.resize(n_el, [0.0; ELEMENT_DOFS]);
-        for (ei, e) in self.disc.elements.iter().enumerate() {
-            let dofs = &self.elem_dofs[ei];
-            if dofs.iter().all(|&d| d == NO_DOF) {
-                continue;
+        // local work on the run's threads, then the scatter in element order
+        let (disc, model, elem_dofs) = (&self.disc, &self.model, &self.elem_dofs);
+        let (initial_area, d_mats, stress) = (&self.initial_area, &self.d_mats, &self.stress);
+        let locals = self.threads.map(n_el, |ei| {
+            let e = &disc.elements[ei];
+            if elem_dofs[ei].iter().all(|&d| d == NO_DOF) {
+                return None;
             }
-            let mat = self.model.blocks[e.block].material;
+            let mat = model.blocks[e.block].material;
             let it = local::element_integrals(e);
             // conserved mass: the current density is ρ₀ A₀ / A
-            let rho = self.model.materials[mat].density * self.initial_area[ei] / it.area;
-            let k = local::stiffness(it.area, &it.grads, &self.d_mats[mat]);
+            let rho = model.materials[mat].density * initial_area[ei] / it.area;
+            let k = local::stiffness(it.area, &it.grads, &d_mats[mat]);
             let m = local::mass(rho, &it.int_ww, 1.0);
+            let body: [f64; 3] = std::array::from_fn(|i| rho * it.int_w[i]);
+            let internal = local::internal_force(it.area, &it.grads, &stress[ei]);
+            Some((mat, k, m, body, internal))
+        });
+        for (ei, local) in locals.into_iter().enumerate() {
+            let Some((mat, k, m, body, internal)) = local else {
+                continue;
+            };
             let slots = &lp.element_slots[ei];
             for (idx, &s) in slots.iter().enumerate() {
                 if s != u32::MAX {
@@ -708,8 +734,8 @@ impl Simulation {
                 }
             }
             lp.element_mass[ei] = m;
-            lp.element_body[ei] = std::array::from_fn(|i| rho * it.int_w[i]);
-            lp.element_internal[ei] = local::internal_force(it.area, &it.grads, &self.stress[ei]);
+            lp.element_body[ei] = body;
+            lp.element_internal[ei] = internal;
         }
         for (p, slots) in self.penalties.iter().zip(&lp.penalty_slots) {
             for (idx, &s) in slots.iter().enumerate() {
@@ -1139,6 +1165,7 @@ impl Simulation {
             u_n: &self.u,
             contacts: &mut self.contacts,
             tangent: &mut lp.tangent,
+            threads: &self.threads,
             sigma: 0.0,
             scale: 0.0,
             work: Vec::with_capacity(rhs.f.len()),

@@ -27,7 +27,7 @@ use std::time::{Duration, Instant};
 
 /// What a caller sees of a run while it goes (the command line draws a progress bar).
 /// Every method has an empty default.
-pub trait RunObserver {
+pub trait RunObserver: Send {
     /// The run starts at `step` (0 unless resumed) of `total_steps`.
     fn start(&mut self, _step: usize, _total_steps: usize) {}
     /// A step was completed: `step` steps done, simulated time `time`.
@@ -87,6 +87,9 @@ pub struct RunOptions {
     /// Where the run starts: afresh, resuming its own checkpoint, or branching from a
     /// checkpoint of another run.
     pub start: Start,
+    /// Threads to compute on (None: `NMM_THREADS`, else the cores the process may use;
+    /// see [`crate::parallel`]: the results do not depend on it).
+    pub threads: Option<usize>,
 }
 
 /// Where a run starts.
@@ -147,6 +150,8 @@ pub struct RunSummary {
     pub total_time: Duration,
     pub n_blocks: usize,
     pub n_dofs: usize,
+    /// Threads the run computed on.
+    pub threads: usize,
     pub n_elements: usize,
     pub n_covers: usize,
     /// Closed (stick or slide) contacts at the end of every step.
@@ -233,6 +238,7 @@ impl RunSummary {
             "unknowns": self.n_dofs,
             "physical_covers": self.n_covers,
             "manifold_elements": self.n_elements,
+            "threads": self.threads,
             "iterations": {
                 "total": total,
                 "median": sorted.get(sorted.len() / 2).copied().unwrap_or(0),
@@ -245,6 +251,7 @@ impl RunSummary {
             },
             "active_set_changes": self.active_set_changes,
             "linear": {
+                "solves": self.linear.solves,
                 "gmres_iterations": self.linear.gmres_iterations,
                 "cholesky_factorisations": self.linear.factorisations,
                 "symbolic_analyses": self.linear.symbolic_analyses,
@@ -531,6 +538,16 @@ pub fn run_observed(
         Start::Fresh => Ok(sim),
         Start::Resume(c) | Start::Branch(c) => sim.restore(c).map(|_| sim),
     });
+    let threads = match opts.threads {
+        Some(0) => Err("threads: expected an integer ≥ 1, got 0".to_string()),
+        Some(n) => Ok(n),
+        None => crate::parallel::default_threads(),
+    }
+    .and_then(crate::parallel::Threads::new);
+    let made = made.and_then(|mut sim| {
+        sim.set_threads(threads?);
+        Ok(sim)
+    });
     let mut sim = match made {
         Ok(sim) => sim,
         Err(e) => {
@@ -548,7 +565,10 @@ pub fn run_observed(
             return Err(RunError::Setup(e));
         }
     };
-    run_simulation(&mut sim, out, opts, observer)
+    // the whole run on the pool: its thread runs the steps and the pool's others join
+    // its parallel loops (no thread of ours waits while another spins)
+    let threads = sim.threads.clone();
+    threads.install(|| run_simulation(&mut sim, out, opts, observer))
 }
 
 /// Step an existing simulation to its end time, writing outputs, then summary.json
@@ -566,6 +586,7 @@ pub fn run_simulation(
         n_blocks: sim.model.blocks.len(),
         static_mode: sim.model.analysis.mode == crate::model::Mode::Static,
         n_dofs: sim.n_dofs(),
+        threads: sim.threads(),
         n_elements: sim.disc.elements.len(),
         n_covers: sim.disc.covers.len(),
         warnings: sim.warnings(),

@@ -205,6 +205,7 @@ pub(crate) struct StepSystem<'a> {
     pub u_n: &'a [f64],
     pub contacts: &'a mut ContactSet,
     pub tangent: &'a mut TangentPattern,
+    pub threads: &'a crate::parallel::Threads,
     pub sigma: f64,
     pub scale: f64,
     pub work: Vec<f64>,
@@ -227,13 +228,15 @@ impl TangentOperator for StepSystem<'_> {
     fn apply(&self, v: &[f64], y: &mut [f64]) {
         let p = self.tangent.element();
         let sigma = self.sigma;
-        for (i, yi) in y.iter_mut().enumerate() {
+        let (l, m) = (self.l, self.m);
+        // by rows (= columns: L and M are symmetric), each row one ordered sum
+        self.threads.for_each_mut(y, |i, yi| {
             let mut s = 0.0;
             for k in p.col_ptr[i]..p.col_ptr[i + 1] {
-                s += (self.l[k] + sigma * self.m[k]) * v[p.row_idx[k]];
+                s += (l[k] + sigma * m[k]) * v[p.row_idx[k]];
             }
             *yi = s;
-        }
+        });
         self.contacts.apply_tangent(v, y);
     }
 

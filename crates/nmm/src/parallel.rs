@@ -1,0 +1,127 @@
+//! The run's threads: local work (element integrals, contact laws, matrix rows) spread
+//! over a rayon pool of a chosen size, its results gathered **in index order**, so that
+//! every sum the global scatter then makes is the same whatever the thread count: a run
+//! gives the same numbers on 1 thread as on 8, bit for bit.
+//!
+//! The count is `--threads N` (`threads=` in Python), else the environment's
+//! `NMM_THREADS`, else the cores the process may use (`available_parallelism`, which
+//! honours CPU affinity and cgroup quotas). With one thread no pool is made and every loop
+//! runs inline.
+
+use rayon::prelude::*;
+use std::sync::Arc;
+
+/// The environment variable that sets the default thread count.
+pub const THREADS_VAR: &str = "NMM_THREADS";
+
+/// Loops below this many items run inline (a pool's dispatch costs more than they do).
+const MIN_PARALLEL: usize = 256;
+
+/// The default thread count: `NMM_THREADS` if set, else the cores the process may use.
+/// A malformed `NMM_THREADS` is an error naming it.
+pub fn default_threads() -> Result<usize, String> {
+    match std::env::var(THREADS_VAR) {
+        Ok(v) => parse_threads(&v).map_err(|e| format!("{THREADS_VAR}: {e}")),
+        Err(_) => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
+    }
+}
+
+/// A thread count as written by a user: an integer ≥ 1.
+pub fn parse_threads(v: &str) -> Result<usize, String> {
+    match v.trim().parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!("expected an integer ≥ 1, got {v:?}")),
+    }
+}
+
+/// A handle on the run's threads (cheap to clone).
+#[derive(Clone, Default)]
+pub struct Threads {
+    pool: Option<Arc<rayon::ThreadPool>>,
+}
+
+impl std::fmt::Debug for Threads {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Threads({})", self.count())
+    }
+}
+
+impl Threads {
+    /// `n` threads (1: none besides the caller's).
+    pub fn new(n: usize) -> Result<Threads, String> {
+        if n <= 1 {
+            return Ok(Threads { pool: None });
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .thread_name(|i| format!("nmm-{i}"))
+            .build()
+            .map_err(|e| format!("cannot start {n} threads: {e}"))?;
+        Ok(Threads {
+            pool: Some(Arc::new(pool)),
+        })
+    }
+
+    pub fn count(&self) -> usize {
+        self.pool.as_ref().map_or(1, |p| p.current_num_threads())
+    }
+
+    /// Run `f` on the pool (inline with one thread), so that the parallel loops it makes
+    /// are joined by the pool's other threads while its own thread takes part.
+    pub fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
+        match &self.pool {
+            Some(p) => p.install(f),
+            None => f(),
+        }
+    }
+
+    /// `(0..n).map(f)` collected in order, computed on the run's threads.
+    pub fn map<T: Send>(&self, n: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
+        match &self.pool {
+            Some(p) if n >= MIN_PARALLEL => p.install(|| (0..n).into_par_iter().map(f).collect()),
+            _ => (0..n).map(f).collect(),
+        }
+    }
+
+    /// `f(i, &mut out[i])` for every i, on the run's threads (each item written by one
+    /// call: the result does not depend on the thread count).
+    pub fn for_each_mut<T: Send>(&self, out: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {
+        match &self.pool {
+            Some(p) if out.len() >= MIN_PARALLEL => p.install(|| {
+                out.par_iter_mut()
+                    .enumerate()
+                    .with_min_len(MIN_PARALLEL / 4)
+                    .for_each(|(i, x)| f(i, x))
+            }),
+            _ => out.iter_mut().enumerate().for_each(|(i, x)| f(i, x)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn results_are_in_order_whatever_the_thread_count() {
+        let f = |i: usize| (i as f64).sqrt().sin();
+        let one = Threads::new(1).unwrap().map(5000, f);
+        let four = Threads::new(4).unwrap();
+        assert_eq!(four.count(), 4);
+        assert_eq!(one, four.map(5000, f));
+        let mut a = vec![0.0; 3000];
+        let mut b = vec![0.0; 3000];
+        Threads::new(1)
+            .unwrap()
+            .for_each_mut(&mut a, |i, x| *x = f(i));
+        four.for_each_mut(&mut b, |i, x| *x = f(i));
+        assert_eq!(a, b);
+    }
+
+    #[test]
+    fn thread_counts_are_checked() {
+        assert_eq!(parse_threads(" 3 "), Ok(3));
+        assert!(parse_threads("0").is_err());
+        assert!(parse_threads("two").is_err());
+    }
+}

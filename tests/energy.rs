@@ -94,10 +94,10 @@ fn recompute(sim: &Simulation, mass: &[f64]) -> Recomputed {
         let vel = |x: [f64; 2]| {
             let w = e.weights(x);
             let mut v = [0.0; 2];
-            for k in 0..3 {
-                if let Some(d) = sim.disc.covers[e.covers[k]].dof {
-                    v[0] += w[k] * sim.v[d];
-                    v[1] += w[k] * sim.v[d + 1];
+            for (wk, &ck) in w.iter().zip(&e.covers) {
+                if let Some(d) = sim.disc.covers[ck].dof {
+                    v[0] += wk * sim.v[d];
+                    v[1] += wk * sim.v[d + 1];
                 }
             }
             v

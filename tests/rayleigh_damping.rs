@@ -202,3 +202,58 @@ fn static_mode_ignores_damping() {
     let (d0, d1) = (top(text("dynamic", "")), top(text("dynamic", damped)));
     assert!((d0 - d1).abs() > 0.05 * d0.abs(), "{d0} vs {d1}");
 }
+
+/// The logarithmic decrement per (numerical) period of the oscillator integrated by the
+/// scheme at ωΔt = x with damping ratio ζ, from the eigenvalues r e^{±iθ} of the step's
+/// amplification matrix (the step written out as in [`oscillator_decrements`], with ω = 1,
+/// Δt = x): δ = −(2π/θ) ln r.
+fn scheme_decrement(x: f64, zeta: f64) -> f64 {
+    let step = |q: f64, v: f64| {
+        let a = (-2.0 * zeta * v - (q + x * v)) / (1.0 + zeta * x + 0.5 * x * x);
+        (q + x * v + 0.5 * x * x * a, v + x * a)
+    };
+    let ((a, c), (b, d)) = (step(1.0, 0.0), step(0.0, 1.0));
+    let (tr, det) = (a + d, a * d - b * c);
+    assert!(tr * tr < 4.0 * det, "not oscillating at ωΔt = {x}");
+    let r = det.sqrt();
+    let theta = (0.5 * tr / r).acos();
+    -TAU / theta * r.ln()
+}
+
+/// The figures of docs/model-format.md (damping): the scheme's own decrement is about
+/// π²Δt/T, "0.25, i.e. 22% amplitude loss, at 40 steps per period; 0.025 at 400" (to the
+/// digits stated); "to first order the two decrements add, δ ≈ 2πζ + π²Δt/T (within 1% at
+/// ζ = 0.05 and 100 steps per period)"; "T/Δt ≥ 3200 keeps the scheme's share below 1% of
+/// ζ = 0.05". And the oscillator's decrements measured from its maxima agree with the
+/// eigenvalues' (a check of the two computations in this file against each other).
+#[test]
+fn the_docs_damping_figures() {
+    let x = |steps: f64| TAU / steps;
+    let d40 = scheme_decrement(x(40.0), 0.0);
+    let d400 = scheme_decrement(x(400.0), 0.0);
+    eprintln!(
+        "scheme: δ = {d40:.4} at 40 steps per period ({:.1}% per period), {d400:.5} at 400",
+        (1.0 - (-d40).exp()) * 100.0
+    );
+    assert!((d40 - 0.25).abs() < 0.005, "{d40}");
+    assert!(((1.0 - (-d40).exp()) - 0.22).abs() < 0.005, "{d40}");
+    assert!((d400 - 0.025).abs() < 0.0005, "{d400}");
+    assert!(
+        (d40 / (PI * PI / 40.0) - 1.0).abs() < 0.01,
+        "≈ π²Δt/T: {d40}"
+    );
+    let both = scheme_decrement(x(100.0), 0.05);
+    let sum = TAU * 0.05 + PI * PI / 100.0;
+    eprintln!(
+        "ζ = 0.05, 100 steps per period: δ = {both:.5}, 2πζ + π²Δt/T = {sum:.5} ({:+.2}%)",
+        (both / sum - 1.0) * 100.0
+    );
+    assert!((both / sum - 1.0).abs() < 0.01, "{both} vs {sum}");
+    let share = scheme_decrement(x(3200.0), 0.0) / (TAU * 0.05);
+    assert!(share < 0.01, "{share}");
+    // the maxima of the integrated oscillator give the eigenvalues' decrement
+    let measured = oscillator_decrements(1.0, 0.05, x(100.0), 4.0);
+    for d in &measured {
+        assert!((d / both - 1.0).abs() < 1e-3, "{d} vs {both}");
+    }
+}

@@ -465,3 +465,28 @@ pub fn figure_blocks(
     }));
     plot_map(stem, title, &polygons, &lines, 1100).map_err(|e| e.to_string())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{Case, Row};
+
+    /// A row passes only on a finite error within its tolerance: a NaN (a case that did
+    /// not produce its figure) fails, and so does a case without rows or with a failure.
+    #[test]
+    fn rows_and_cases_fail_when_they_should() {
+        assert!(Row::relative("x", 1.009, 1.0, 0.01).pass());
+        assert!(!Row::relative("x", 1.011, 1.0, 0.01).pass());
+        assert!(!Row::relative("x", f64::NAN, 1.0, 0.01).pass());
+        assert!(!Row::absolute("x", 0.0, f64::NAN, 1.0).pass());
+        assert!(Row::at_least("x", 3.0, 3.0).pass());
+        assert!(!Row::at_least("x", 2.0, 3.0).pass());
+        assert!(!Row::at_least("x", f64::NAN, 3.0).pass());
+        assert!(!Row::at_least("x", 577.0, 1.001 * 577.35).pass());
+        let mut c = Case::default();
+        assert!(!c.pass(), "a case without rows");
+        c.rows.push(Row::relative("x", 1.0, 1.0, 0.0));
+        assert!(c.pass());
+        c.rows.push(Row::at_least("y", 0.0, 1.0));
+        assert!(!c.pass(), "one failing row fails the case");
+    }
+}

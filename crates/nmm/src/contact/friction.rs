@@ -200,7 +200,13 @@ pub fn return_mapping(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -
     if trial.abs() < strength || cfg!(feature = "mutant-no-return-mapping") {
         return stick(p, h, tn, dgs);
     }
-    let s = sgn(trial);
+    // mutation check (scripts/mutants; never enabled in CI): friction along the slip
+    let s = sgn(trial)
+        * if cfg!(feature = "mutant-contact-sign") {
+            -1.0
+        } else {
+            1.0
+        };
     slide(p, h, tn, dgs, s, s * strength)
 }
 
@@ -215,12 +221,6 @@ pub fn slide(
     s: f64,
     ts: f64,
 ) -> LawResponse {
-    // mutation check (scripts/mutants; never enabled in CI): friction pushes the slip on
-    let ts = if cfg!(feature = "mutant-contact-sign") {
-        -ts
-    } else {
-        ts
-    };
     let trial = p.ps * (h.ge + dgs);
     LawResponse {
         tn,

@@ -229,19 +229,89 @@ fn newton_with_consistent_tangent_converges_in_few_iterations() {
     println!("Newton iterations: consistent {it_consistent}, without dts/dgn {it_dropped}");
 }
 
+/// The return mapping at every point of a grid of (g_N, Δg_S) and committed states,
+/// against the closed form written out here (trial t_S = p_S (g_S^e|ₙ + Δg_S); stick below
+/// S = |p_N g_N| tan φ + c, else t_S = sgn(trial) S with slip (trial − t_S)/p_S), and its
+/// tangent against central differences of the forces (relative 1e-6: the differences'
+/// round-off at a step of 1e-7 of the gaps, away from the stick/slide boundary). The
+/// response depends on the committed state and the current gaps only (it is evaluated at
+/// every Newton iterate from the committed state), so a grid of states covers it.
+/// (Replaces a check that called the pure function twice and compared the results.)
 #[test]
-fn return_mapping_is_path_independent_within_a_step() {
-    // The law is evaluated from the committed state, so the iterate history of
-    // a Newton loop does not matter: same (g_N, Δg_S) → same response.
-    let p = direct_shear_params();
-    let h = ShearHistory {
-        ge: 1e-6,
-        status: ContactStatus::Stick,
-        tn: -1e6,
-        slide_sign: 0.0,
+fn return_mapping_matches_the_closed_form_and_its_tangent() {
+    let p = FrictionParams {
+        pn: 1.0e10,
+        ps: 2.0e9,
+        tan_phi: 35f64.to_radians().tan(),
+        cohesion: 5.0e3,
     };
-    let a = return_mapping(&p, &h, GN, 3e-5);
-    let _ = return_mapping(&p, &h, GN, -7e-5);
-    let b = return_mapping(&p, &h, GN, 3e-5);
-    assert_eq!(a, b);
+    let mut n = [0usize; 3];
+    for ge0 in [-4e-6, 0.0, 1e-6, 3e-6] {
+        for status in [ContactStatus::Stick, ContactStatus::Slide] {
+            let h = ShearHistory {
+                ge: ge0,
+                status,
+                tn: -2e4,
+                slide_sign: if status == ContactStatus::Slide {
+                    1.0
+                } else {
+                    0.0
+                },
+            };
+            for gn in [1e-7, -1e-7, -1e-6, -3e-6] {
+                for dgs in [-2e-5, -3e-6, -1e-7, 0.0, 1e-7, 2e-6, 5e-6, 1e-4] {
+                    let r = return_mapping(&p, &h, gn, dgs);
+                    if gn >= 0.0 {
+                        n[0] += 1;
+                        assert_eq!((r.tn, r.ts, r.status), (0.0, 0.0, ContactStatus::Open));
+                        continue;
+                    }
+                    let tn = p.pn * gn;
+                    let strength = -tn * p.tan_phi + p.cohesion;
+                    let trial = p.ps * (ge0 + dgs);
+                    let (ts, slip, status) = if trial.abs() < strength {
+                        (trial, 0.0, ContactStatus::Stick)
+                    } else {
+                        let ts = trial.signum() * strength;
+                        (ts, (trial - ts) / p.ps, ContactStatus::Slide)
+                    };
+                    n[if status == ContactStatus::Stick { 1 } else { 2 }] += 1;
+                    let what = format!("ge {ge0}, {status:?}, gn {gn}, dgs {dgs}: {r:?}");
+                    assert_eq!(r.status, status, "{what}");
+                    assert!((r.tn - tn).abs() <= 1e-12 * tn.abs(), "{what}");
+                    assert!((r.ts - ts).abs() <= 1e-9 * strength, "{what}");
+                    assert!((r.slip - slip).abs() <= 1e-9 * strength / p.ps, "{what}");
+                    assert!((r.ge * p.ps - ts).abs() <= 1e-9 * strength, "{what}");
+                    assert!(r.ts.abs() <= strength * (1.0 + 1e-12), "{what}");
+                    // the tangent against central differences, away from the boundary
+                    if (trial.abs() - strength).abs() > 0.01 * strength {
+                        let (eg, es) = (1e-7 * gn.abs(), 1e-7 * gn.abs());
+                        let f = |g: f64, d: f64| {
+                            let q = return_mapping(&p, &h, g, d);
+                            (q.tn, q.ts)
+                        };
+                        let (a, b) = (f(gn + eg, dgs), f(gn - eg, dgs));
+                        let (c, d) = (f(gn, dgs + es), f(gn, dgs - es));
+                        let fd = [
+                            (a.0 - b.0) / (2.0 * eg),
+                            (c.0 - d.0) / (2.0 * es),
+                            (a.1 - b.1) / (2.0 * eg),
+                            (c.1 - d.1) / (2.0 * es),
+                        ];
+                        let an = [r.dtn_dgn, r.dtn_dgs, r.dts_dgn, r.dts_dgs];
+                        for k in 0..4 {
+                            assert!(
+                                (fd[k] - an[k]).abs() <= 1e-6 * p.pn,
+                                "{what}: tangent {k}: {} vs differences {}",
+                                an[k],
+                                fd[k]
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // the grid reaches the three branches
+    assert!(n.iter().all(|&k| k >= 8), "{n:?}");
 }

@@ -430,3 +430,156 @@ fn pvd_is_valid_after_every_frame() {
         .collect();
     assert!(names.is_empty(), "{names:?}");
 }
+
+/// The conventions of docs/outputs.md on a real run (issue 19): a 0.5 m × 0.25 m block on a
+/// fixed base under gravity tilted 30° (an incline without rotating the mesh), φ = 20°, so
+/// it slides in +x; plane strain, ν = 0.25; dynamic, 300 steps of 1 ms, frames at 0 and 300.
+/// - contacts: `force_on_vertex_block` = −(t_N n + t_S t) with |t_N| = `normal_force`,
+///   t_S = `shear_force` and t the edge block's counter-clockwise direction (−n_y, n_x);
+///   `normal` points toward the vertex block; every closed contact is sliding (state 2);
+///   the forces on the block (its vertex contacts' plus the opposite of its edge
+///   contacts') add up to the base's reaction: N = m g cos θ up, friction tan φ N against
+///   the slip (−x);
+/// - blocks: `szz` = ν(`sxx` + `syy`) per cell (plane strain), tension positive: the
+///   block's mean stress from equilibrium (∫σ_ij dA = ∮ x_i t_j ds + ∫ x_i (b_j − ρa_j) dA,
+///   y measured from the joint): σyy = −ρ g cos θ H/2, τxy = +ρ g cos θ tan φ H/2.
+///
+/// Tolerance 1e-3 on the sums and means: what is left after 300 steps of the contacts'
+/// oscillation on the penalty springs, damped by the scheme, and the slider's deformed
+/// geometry (strain ~1e-6) in the means (measured 3e-5).
+#[test]
+fn a_real_run_writes_the_documented_signs_and_stress() {
+    let (theta, phi, rho, nu) = (30f64.to_radians(), 20f64.to_radians(), 2500.0, 0.25);
+    let (s, c) = theta.sin_cos();
+    let g = 9.81;
+    let model = format!(
+        "[analysis]\nmode = \"dynamic\"\ndt = 0.001\nsteps = 300\noutput_every = 300\ngravity = [{}, {}]\n\
+         [cover]\nsize = 0.0625\n\
+         [[material]]\nname = \"rock\"\ndensity = {rho}\nyoung = 1.0e9\npoisson = {nu}\n\
+         [[block]]\nname = \"base\"\nmaterial = \"rock\"\nfixed = true\nvertices = [[0.0, 0.0], [3.0, 0.0], [3.0, 0.5], [0.0, 0.5]]\n\
+         [[block]]\nname = \"slider\"\nmaterial = \"rock\"\nvertices = [[0.5, 0.5], [1.0, 0.5], [1.0, 0.75], [0.5, 0.75]]\n\
+         [[interface]]\nfriction_angle = 20.0\nnormal_penalty = 1.0e10\nshear_penalty = 1.0e9\n",
+        g * s,
+        -g * c
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("m.toml");
+    std::fs::write(&path, model).unwrap();
+    let out = dir.path().join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_nmm"))
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (h, w) = (0.25, 0.5);
+    let m = rho * h * w;
+    let n_force = m * g * c;
+
+    // contacts
+    let root = parse(&out.join("vtk/contacts_000300.vtu"));
+    let cd = root
+        .child("UnstructuredGrid")
+        .child("Piece")
+        .child("CellData");
+    let normal = f64s(cd.array("normal"));
+    let force = f64s(cd.array("force_on_vertex_block"));
+    let tn = f64s(cd.array("normal_force"));
+    let ts = f64s(cd.array("shear_force"));
+    let state = i32s(cd.array("state"));
+    let blocks = f64s(cd.array("blocks"));
+    let (mut fx, mut fy, mut closed) = (0.0, 0.0, 0);
+    for k in 0..state.len() {
+        let nv = [normal[3 * k], normal[3 * k + 1]];
+        let f = [force[3 * k], force[3 * k + 1]];
+        let t = [-nv[1], nv[0]];
+        let scale = n_force;
+        assert!(
+            (f[0] * nv[0] + f[1] * nv[1] - tn[k]).abs() < 1e-9 * scale,
+            "contact {k}: F·n vs |t_N|"
+        );
+        assert!(
+            (f[0] * t[0] + f[1] * t[1] + ts[k]).abs() < 1e-9 * scale,
+            "contact {k}: F·t vs −t_S"
+        );
+        let (vb, eb) = (blocks[2 * k] as usize, blocks[2 * k + 1] as usize);
+        // the normal points from the edge block toward the vertex block: up when the
+        // base's top is the edge (a slider's edge is turned by its strain, ~1e-6)
+        let up = if eb == 0 { 1.0 } else { -1.0 };
+        assert!(
+            (nv[1] - up).abs() < 1e-8 && nv[0].abs() < 1e-4,
+            "contact {k}: normal {nv:?}, blocks {vb}/{eb}"
+        );
+        if tn[k] > 0.0 {
+            closed += 1;
+            assert_eq!(state[k], 2, "contact {k} closed but not sliding");
+        }
+        let sign = if vb == 1 { 1.0 } else { -1.0 };
+        fx += sign * f[0];
+        fy += sign * f[1];
+    }
+    eprintln!(
+        "contacts: {closed} closed; force on the slider ({fx:.3}, {fy:.3}) N/m, expected ({:.3}, {n_force:.3})",
+        -phi.tan() * n_force
+    );
+    assert!(closed >= 4, "{closed} closed contacts");
+    assert!((fy / n_force - 1.0).abs() < 1e-3, "{fy} vs {n_force}");
+    assert!(
+        (fx / (-phi.tan() * n_force) - 1.0).abs() < 1e-3,
+        "{fx} vs friction against the slip"
+    );
+
+    // blocks
+    let root = parse(&out.join("vtk/blocks_000300.vtu"));
+    let piece = root.child("UnstructuredGrid").child("Piece");
+    let pts = f64s(piece.child("Points").array("Points"));
+    let conn = i64s(piece.child("Cells").array("connectivity"));
+    let offs = i64s(piece.child("Cells").array("offsets"));
+    let cd = piece.child("CellData");
+    let stress = f64s(cd.array("stress"));
+    let block = i32s(cd.array("block"));
+    let (mut area, mut syy, mut txy) = (0.0, 0.0, 0.0);
+    let mut start = 0usize;
+    for (k, &end) in offs.iter().enumerate() {
+        let v: Vec<[f64; 2]> = conn[start..end as usize]
+            .iter()
+            .map(|&i| [pts[3 * i as usize], pts[3 * i as usize + 1]])
+            .collect();
+        start = end as usize;
+        let st = &stress[4 * k..4 * k + 4];
+        let scale = st.iter().fold(1.0f64, |a, x| a.max(x.abs()));
+        assert!(
+            (st[3] - nu * (st[0] + st[1])).abs() < 1e-9 * scale,
+            "cell {k}: szz {st:?}"
+        );
+        if block[k] != 1 {
+            continue;
+        }
+        let a: f64 = (0..v.len())
+            .map(|i| {
+                let (p, q) = (v[i], v[(i + 1) % v.len()]);
+                0.5 * (p[0] * q[1] - q[0] * p[1])
+            })
+            .sum();
+        area += a;
+        syy += a * st[1];
+        txy += a * st[2];
+    }
+    let (syy, txy) = (syy / area, txy / area);
+    let (want_syy, want_txy) = (-rho * g * c * h / 2.0, rho * g * c * phi.tan() * h / 2.0);
+    eprintln!("slider: area {area:.6}, mean σyy {syy:.2} Pa (expected {want_syy:.2}), τxy {txy:.2} Pa (expected {want_txy:.2})");
+    assert!((area / (h * w) - 1.0).abs() < 1e-3, "{area}");
+    assert!(
+        (syy / want_syy - 1.0).abs() < 1e-3,
+        "σyy {syy} vs {want_syy}"
+    );
+    assert!(
+        (txy / want_txy - 1.0).abs() < 1e-3,
+        "τxy {txy} vs {want_txy}"
+    );
+}

@@ -68,7 +68,9 @@ interface = ["falling", "base, \"fixed\""]
 #[test]
 fn a_finished_run_writes_its_summary_block_table_and_frames() {
     let dir = tempfile::tempdir().unwrap();
+    let start = std::time::Instant::now();
     let (ok, stderr) = nmm_run(DROP, dir.path(), &[]);
+    let wall = start.elapsed().as_secs_f64();
     assert!(ok, "{stderr}");
     let out = dir.path().join("out");
     let s = summary(dir.path());
@@ -92,20 +94,80 @@ fn a_finished_run_writes_its_summary_block_table_and_frames() {
         "{}",
         s["contacts"]
     );
-    for k in [
+    // the stage timings (issue 19: were only checked ≥ 0): every stage that works in a
+    // 30-step run with contacts took some time, the stages add up to no more than the
+    // total, and the total to no more than the process's wall time
+    let t = &s["timings"];
+    let stages = [
         "cover",
         "assembly",
         "contact",
         "factorisation",
         "solve",
         "output",
-        "total",
-    ] {
-        assert!(s["timings"][k].as_f64().unwrap() >= 0.0, "timings.{k}");
+    ];
+    for k in stages.iter().chain(&["total"]) {
+        assert!(t[*k].as_f64().unwrap() > 0.0, "timings.{k}: {}", t[*k]);
     }
+    let sum: f64 = stages.iter().map(|k| t[*k].as_f64().unwrap()).sum();
+    let total = t["total"].as_f64().unwrap();
+    assert!(
+        sum <= total * (1.0 + 1e-9),
+        "stages {sum} s > total {total} s"
+    );
+    assert!(
+        total <= wall,
+        "total {total} s > the process's wall time {wall} s"
+    );
     if cfg!(target_os = "linux") {
-        assert!(s["peak_memory_bytes"].as_u64().unwrap() > 1 << 20);
+        // the process's peak: more than its binary's few MB, less than 1 GB for 46 unknowns
+        let peak = s["peak_memory_bytes"].as_u64().unwrap();
+        assert!(peak > 1 << 20 && peak < 1 << 30, "{peak}");
     }
+    // the counts `nmm check --json` gives for the same model
+    let check = Command::new(env!("CARGO_BIN_EXE_nmm"))
+        .args([
+            "check",
+            dir.path().join("m.toml").to_str().unwrap(),
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    let check: serde_json::Value = serde_json::from_slice(&check.stdout).unwrap();
+    for k in ["unknowns", "physical_covers", "manifold_elements"] {
+        assert_eq!(s[k], check[k], "{k}");
+    }
+    // the iteration statistics from history.csv's iterations column
+    let hist = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let its: Vec<u64> = hist
+        .lines()
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(its.len(), 30);
+    assert_eq!(s["iterations"]["total"], its.iter().sum::<u64>());
+    assert_eq!(s["iterations"]["max"], *its.iter().max().unwrap());
+    // the energy's total is the sum of its parts, and the drop created none
+    let e = &s["energy"];
+    let parts: f64 = [
+        "kinetic",
+        "elastic",
+        "gravity_potential",
+        "contact_springs",
+        "penalty_springs",
+    ]
+    .iter()
+    .map(|k| e[*k].as_f64().unwrap())
+    .sum();
+    let etotal = e["total"].as_f64().unwrap();
+    assert!(
+        (parts - etotal).abs() <= 1e-12 * e["gravity_potential"].as_f64().unwrap().abs(),
+        "{e}"
+    );
+    assert!(
+        etotal < 0.0 && e["max_rise"].as_f64().unwrap() <= 1e-9 * etotal.abs(),
+        "{e}"
+    );
     assert!(s["active_set_changes"].as_u64().is_some());
     // a dynamic run: the energy balance, no equilibrium block (static mode only)
     assert!(s["energy"]["total"].as_f64().is_some(), "energy");

@@ -3,7 +3,10 @@
 //! under 2.5 s of a horizontal 2 Hz base motion of 0.2 g (ramped over 0.5 s), Δt = 1 ms:
 //! its joints open and close and slip every cycle (the arch rocks), and at most 1% of the
 //! steps may need a Δt cut (before the rewrite: 307 cuts in 2,500 steps on such a run).
-//! The arch must ride it out: at 0.2 g the crown's drift stays a few cm.
+//! The arch must ride it out. Its largest final displacement (2.88e-2 m, measured; no
+//! closed form exists for a rocking arch) is pinned as a regression figure within ±20%,
+//! where the former check (< 0.1 m) would have passed an arch three times as displaced;
+//! a collapse moves the crown by metres.
 
 use nmm::generate::{arch_model, ArchOptions};
 use nmm::simulation::Simulation;
@@ -52,5 +55,8 @@ fn arch_under_base_motion_needs_few_cuts() {
         cut_steps as f64 <= 0.01 * steps as f64,
         "{cut_steps} of {steps} steps cut"
     );
-    assert!(drift < 0.1, "the arch did not ride it out: {drift} m");
+    assert!(
+        (drift / 2.88e-2 - 1.0).abs() < 0.2,
+        "largest final displacement {drift} m, measured 2.88e-2 m before"
+    );
 }

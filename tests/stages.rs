@@ -1,7 +1,7 @@
 //! `[[stage]]`: a block on a plane (φ = 40.5° above the plane's 30°) settled in a static
 //! stage, then shaken in a dynamic stage whose base-motion record starts at the stage's
 //! start. Its slip during the shaking against the Newmark (1965) rigid-block reference
-//! under the same record (within 5%, the tolerance of tests/shaken_slope.rs), and no drop
+//! under the same record (+1.9% as docs/model-format.md states, ±0.3%), and no drop
 //! at the start of the shaking: the block settles less than 1e-6 m further when the
 //! dynamic stage begins (the unsettled dynamic run drops onto its joint's springs).
 
@@ -92,9 +92,21 @@ fn settle_then_shake_matches_newmark_without_a_drop() {
         "{early} m in the first steps of shaking vs the unsettled drop {drop} m"
     );
     assert!(slip_ref > 0.01, "the record makes the reference slide");
+    // the figures docs/model-format.md states: +1.9% on the Newmark slip (the elastic
+    // block's creep by partial slip, see tests/shaken_slope.rs; ±0.3%, the spread of the
+    // shaken-slope cases is 1.2–2.8%), 8.5e-11 m and 9.1e-8 m (to the digits stated, ±5%)
+    let err = slip / slip_ref - 1.0;
     assert!(
-        ((slip - slip_ref) / slip_ref).abs() < 0.05,
-        "slip {slip} vs Newmark {slip_ref}"
+        (err - 0.019).abs() < 0.003,
+        "slip {slip} vs Newmark {slip_ref}: {err:+.4}, the docs say +1.9%"
+    );
+    assert!(
+        (early / 8.5e-11 - 1.0).abs() < 0.05,
+        "{early} m, the docs say 8.5e-11"
+    );
+    assert!(
+        (drop / 9.1e-8 - 1.0).abs() < 0.05,
+        "{drop} m, the docs say 9.1e-8"
     );
 }
 
@@ -212,31 +224,46 @@ fn bad_stages_get_one_line_naming_table_key_file_and_line() {
 /// A stage may change `constraint_penalty` (any `[analysis]` key may be set in a stage):
 /// a block standing on a constrained bottom edge settles into it by its weight's traction
 /// × h / (factor × E); with the factor 1000 times smaller in a second static stage, the
-/// bottom sinks 1000 times further.
+/// bottom sinks 1000 times further. The mean sink of the edge (trapezoid rule over nine
+/// monitors along it; the displacement is piecewise linear along the edge with kinks at
+/// the mesh's nodes, h = 0.25, so the rule is exact on the monitors at those nodes) is the
+/// weight over the edge's spring p L = (factor E / h) × 1 m by equilibrium alone: the
+/// only error is the Newton tolerance (1e-9 of the forces) — asserted to 1e-6. Its middle
+/// sinks 13% more than the mean (the stretch is not uniform along the edge, it is larger
+/// at its middle): the README's formula is the mean's.
 #[test]
 fn a_stage_changes_the_constraint_springs() {
-    let text = "[analysis]\nmode = \"static\"\ndt = 1.0\nsteps = 1\ngravity = [0.0, -10.0]\n\
+    let mut text = String::from(
+        "[analysis]\nmode = \"static\"\ndt = 1.0\nsteps = 1\ngravity = [0.0, -10.0]\n\
         [cover]\nsize = 0.25\n\
         [[material]]\nname = \"m\"\ndensity = 2000.0\nyoung = 1.0e9\npoisson = 0.0\n\
         [[block]]\nname = \"b\"\nmaterial = \"m\"\nvertices = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]\n\
         [[constraint]]\nblock = \"b\"\nedge = [[0.0, 0.0], [1.0, 0.0]]\nux = 0.0\nuy = 0.0\n\
-        [[monitor]]\nname = \"foot\"\npoint = [0.5, 0.0]\n\
         [[stage]]\nname = \"stiff\"\n\
-        [[stage]]\nname = \"soft\"\nconstraint_penalty = 1.0e3\n";
-    let mut sim = Simulation::new(parse_model(text, Path::new(".")).unwrap()).unwrap();
-    let mut sink = Vec::new();
+        [[stage]]\nname = \"soft\"\nconstraint_penalty = 1.0e3\n",
+    );
+    for k in 0..=8 {
+        text += &format!(
+            "[[monitor]]\nname = \"f{k}\"\npoint = [{}, 0.0]\n",
+            k as f64 / 8.0
+        );
+    }
+    let mut sim = Simulation::new(parse_model(&text, Path::new(".")).unwrap()).unwrap();
+    let (mut mean, mut middle) = (Vec::new(), Vec::new());
     while !sim.finished() {
         sim.advance().unwrap();
-        sink.push(-monitor_values(&sim)[1]);
+        let m = monitor_values(&sim);
+        let uy: Vec<f64> = (0..=8).map(|k| -m[4 * k + 1]).collect();
+        let trapezoid = (0.5 * (uy[0] + uy[8]) + uy[1..8].iter().sum::<f64>()) / 8.0;
+        mean.push(trapezoid);
+        middle.push(uy[4]);
     }
     // traction ρ g H = 2e4 Pa; stretch = 2e4 × 0.25 / (factor × 1e9)
-    let (stiff, soft) = (sink[0], sink[1]);
-    eprintln!("foot sinks {stiff:.3e} m (factor 1e6), then {soft:.3e} m (factor 1e3)");
-    assert!((stiff / 5e-12 - 1.0).abs() < 0.5, "{stiff}");
-    assert!((soft / 5e-9 - 1.0).abs() < 0.5, "{soft}");
-    assert!(
-        (soft / stiff / 1000.0 - 1.0).abs() < 0.1,
-        "{}",
-        soft / stiff
+    let (stiff, soft) = (mean[0], mean[1]);
+    eprintln!(
+        "edge sinks {stiff:.6e} m on average, {:.3e} at its middle (factor 1e6), then {soft:.6e} m, {:.3e} (factor 1e3)",
+        middle[0], middle[1]
     );
+    assert!((stiff / 5e-12 - 1.0).abs() < 1e-6, "{stiff}");
+    assert!((soft / 5e-9 - 1.0).abs() < 1e-6, "{soft}");
 }

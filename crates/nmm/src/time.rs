@@ -43,12 +43,23 @@
 
 /// Coefficient of M Δu in the step's equations: 2/Δt².
 pub fn mass_coefficient(dt: f64) -> f64 {
+    // mutation check (scripts/mutants; never enabled in CI): no inertia
     2.0 / (dt * dt)
+        * if cfg!(feature = "mutant-no-mass") {
+            0.0
+        } else {
+            1.0
+        }
 }
 
 /// Coefficient of M v_n on the right-hand side: 2/Δt.
 pub fn velocity_coefficient(dt: f64) -> f64 {
     2.0 / dt
+        * if cfg!(feature = "mutant-no-mass") {
+            0.0
+        } else {
+            1.0
+        }
 }
 
 /// Coefficient of C Δu (the damping matrix) in the step's equations: 2/Δt. (The damping

@@ -196,10 +196,17 @@ pub fn return_mapping(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -
     let tn = p.pn * gn;
     let strength = p.strength(tn);
     let trial = p.ps * (h.ge + dgs);
-    if trial.abs() < strength {
+    // mutation check (scripts/mutants; never enabled in CI): no projection on the cone
+    if trial.abs() < strength || cfg!(feature = "mutant-no-return-mapping") {
         return stick(p, h, tn, dgs);
     }
-    let s = sgn(trial);
+    // mutation check (scripts/mutants; never enabled in CI): friction along the slip
+    let s = sgn(trial)
+        * if cfg!(feature = "mutant-contact-sign") {
+            -1.0
+        } else {
+            1.0
+        };
     slide(p, h, tn, dgs, s, s * strength)
 }
 
@@ -295,6 +302,10 @@ pub fn commit(
     h: &ShearHistory,
     r: &LawResponse,
 ) -> ShearHistory {
+    // mutation check (scripts/mutants; never enabled in CI): the step's state is not kept
+    if cfg!(feature = "mutant-no-commit") {
+        return *h;
+    }
     match r.status {
         ContactStatus::Open => ShearHistory::default(),
         // Conventional: a sliding contact whose slip reversed during the step returns to

@@ -4,6 +4,7 @@
 //! The integration tests (`tests/`) call them at full size and assert; `nmm verify`
 //! calls them at a quick size and writes a report.
 
+use crate::contact::friction::ContactStatus;
 use crate::model::{parse_model, Model};
 use crate::simulation::{monitor_values, Simulation};
 use std::path::Path;
@@ -772,8 +773,14 @@ pub struct ShakenSlope {
     pub history: Vec<(f64, f64, f64)>,
     /// (t, slip) of the Newmark rigid-block reference under the same record.
     pub reference: Vec<(f64, f64)>,
-    /// First time the slip exceeds [`ONSET_SLIP`].
+    /// Onset of sliding: the first step at the end of which the whole joint slides
+    /// (every closed contact in the slide state). A definition fixed without reference to
+    /// the comparison (issue 19): the former one, slip above a threshold, had its
+    /// threshold raised from 2e-4 m to 1 mm until the comparison passed — the elastic
+    /// block's lightly loaded part of the joint slips at the record's peaks before the
+    /// whole joint yields and the block creeps by ~1.5e-4 m, which a rigid block cannot.
     pub onset: Option<f64>,
+    /// The reference's onset: the first time its slip is above zero.
     pub onset_reference: Option<f64>,
     pub final_slip: f64,
     pub final_reference: f64,
@@ -781,17 +788,6 @@ pub struct ShakenSlope {
     pub yield_acceleration: f64,
     pub iterations: Vec<usize>,
 }
-
-/// Slip that marks the onset of sliding (m): well above the elastic shear displacement
-/// of the joint (weight share / p_S ≈ 3e-5 m) and above the creep of partial slip, and
-/// below a few cycles' slip. The block is elastic on an elastic joint: under its
-/// overturning moment the normal traction along the joint is far from uniform (from 0.1
-/// to 3 times its mean at rest, see `contact/set.rs`), so before the whole joint yields its
-/// lightly loaded part slips at every peak of the record and the block creeps by about
-/// 1.5e-4 m — a rigid block (the reference) cannot. At 2e-4 m that creep put the onset
-/// on the ramped record one excitation cycle (0.19 s) before the reference's; at 1 mm the
-/// two cross within the same cycle.
-pub const ONSET_SLIP: f64 = 1.0e-3;
 
 /// The shaken two-block slope with the NMM and with the Newmark reference.
 pub fn shaken_slope(
@@ -806,10 +802,24 @@ pub fn shaken_slope(
     let (s, c) = theta.to_radians().sin_cos();
     let mut history = Vec::new();
     let mut iterations = Vec::new();
+    let mut onset = None;
     while !sim.finished() {
         iterations.push(sim.advance().map_err(|e| e.to_string())?.iterations);
         let v = monitor_values(&sim);
         history.push((sim.time, record.accel(sim.time)[0], v[0] * c - v[1] * s));
+        let closed = sim
+            .contacts
+            .contacts
+            .iter()
+            .filter(|k| k.response.status != ContactStatus::Open);
+        let (mut n, mut sliding) = (0, 0);
+        for k in closed {
+            n += 1;
+            sliding += usize::from(k.response.status == ContactStatus::Slide);
+        }
+        if onset.is_none() && n > 0 && sliding == n {
+            onset = Some(sim.time);
+        }
     }
     // the reference slope dips toward −x: mirror the horizontal acceleration
     let accel = |t: f64| (-record.accel(t)[0], 0.0);
@@ -818,8 +828,7 @@ pub fn shaken_slope(
             .iter()
             .map(|r| (r.0, r.1))
             .collect();
-    let onset = history.iter().find(|h| h.2 > ONSET_SLIP).map(|h| h.0);
-    let onset_reference = reference.iter().find(|h| h.1 > ONSET_SLIP).map(|h| h.0);
+    let onset_reference = reference.iter().find(|h| h.1 > 0.0).map(|h| h.0);
     Ok(ShakenSlope {
         final_slip: history.last().map(|h| h.2).unwrap_or(0.0),
         final_reference: reference.last().map(|h| h.1).unwrap_or(0.0),

@@ -47,6 +47,23 @@ impl Row {
             tolerance,
         }
     }
+    /// A lower bound: passes when `computed ≥ bound` (the error is the shortfall,
+    /// relative to |bound|; NaN fails).
+    pub fn at_least(quantity: &str, computed: f64, bound: f64) -> Row {
+        Row {
+            quantity: quantity.into(),
+            computed,
+            reference: bound,
+            error: if computed >= bound {
+                0.0
+            } else if computed.is_nan() {
+                f64::NAN
+            } else {
+                (bound - computed) / bound.abs().max(f64::MIN_POSITIVE)
+            },
+            tolerance: 0.0,
+        }
+    }
     pub fn pass(&self) -> bool {
         self.error <= self.tolerance
     }
@@ -232,46 +249,47 @@ pub fn run(size: Size, out: &Path) -> Vec<Case> {
     ));
     all.push(case(
         "Rayleigh damping",
-        "Free–free bar (one block, no contact) vibrating in its first axial mode, C = αM + βK. At T/Δt = 4000 (the scheme's own decrement π²Δt/T = 0.0025) the logarithmic decrement against 2πζ/√(1 − ζ²) at ζ = 0.1 (mass-proportional); at T/Δt = 40 against the scheme's exact discrete decrement with ζ = 0.05 (α and β), where the scheme's and the physical damping are of one size. Tolerance 2%.",
+        "Free–free bar (one block, no contact) vibrating in its first axial mode, C = αM + βK. At T/Δt = 4000 (the scheme's own decrement π²Δt/T = 0.0025) the logarithmic decrement against 2πζ/√(1 − ζ²) at ζ = 0.1 (mass-proportional); at T/Δt = 40 against the scheme's exact discrete decrement with ζ = 0.05 (α and β), where the scheme's and the physical damping are of one size. Tolerance 1%: the scheme's own 0.39% and the mesh's ~0.1% on ω at T/Δt = 4000 (measured 0.3%), the mesh's ω in the scheme's decrement at T/Δt = 40 (measured 0.3–0.4%); tests/rayleigh_damping.rs checks both against an oscillator integrated in the test.",
         |c| {
             let omega = cases::damped_bar_omega();
             let bar = cases::damped_bar(&format!("{{ alpha = {} }}", 0.2 * omega), 4000.0, 2.4)?;
             let d = bar.decrements.first().copied().unwrap_or(f64::NAN);
-            c.rows.push(Row::relative("δ, ζ = 0.1, T/Δt = 4000", d, crate::time::exact_log_decrement(0.1), 0.02));
+            c.rows.push(Row::relative("δ, ζ = 0.1, T/Δt = 4000", d, crate::time::exact_log_decrement(0.1), 0.01));
             let bar = cases::damped_bar(&format!("{{ alpha = {}, beta = {} }}", 0.05 * omega, 0.05 / omega), 40.0, 2.4)?;
             let d = bar.decrements.first().copied().unwrap_or(f64::NAN);
-            c.rows.push(Row::relative("δ, ζ = 0.05, T/Δt = 40 (discrete)", d, crate::time::log_decrement(bar.omega * bar.dt, 0.05), 0.02));
+            c.rows.push(Row::relative("δ, ζ = 0.05, T/Δt = 40 (discrete)", d, crate::time::log_decrement(bar.omega * bar.dt, 0.05), 0.01));
             Ok(())
         },
     ));
     all.push(case(
         "Elastic bar period",
-        "Bar fixed at one end, sudden end load, 40 steps per period: T = 4L/c. The scheme lengthens the period by 0.28% and damps 22% per period at this step; tolerance 1%.",
+        "Bar fixed at one end, sudden end load, 40 steps per period: T = 4L/c. The scheme lengthens the period by 0.28% and damps 22% per period at this step: the period is compared with 4L/c lengthened by the scheme's elongation, tolerance 0.3% (the mesh lengthens it by ~0.1% more, measured).",
         |c| {
             let (t, exact) = cases::bar_period()?;
-            c.rows.push(Row::relative("first period (s)", t, exact, 0.01));
+            let (_, elongation) = crate::time::amplification(std::f64::consts::TAU / 40.0);
+            c.rows.push(Row::relative("first period (s), against 4L/c × the scheme's elongation", t, exact * elongation, 0.003));
             Ok(())
         },
     ));
     all.push(case(
         "Block on an incline",
-        "θ = 30°, φ = 20°, dynamic, 1 s: slip against ½g(sin θ − cos θ tan φ)t², tolerance 2% (the issue's). With φ = 35° > θ the block must move less than 1 mm.",
+        "θ = 30°, φ = 20°, dynamic, 1 s: slip against ½g(sin θ − cos θ tan φ)t², tolerance 2% (the issue's). With φ = 35° > θ the block stays at its elastic offset (estimated 6.5e-7 m: simple shear of the block and the joint's spring; tests/contact_friction.rs): less than 2.6e-6 m.",
         |c| {
             let (slip, exact, _) = cases::incline(30.0, 20.0, 1e-3, 1000)?;
             c.rows.push(Row::relative("slip after 1 s, φ = 20° (m)", slip, exact, 0.02));
             let (hold, _, _) = cases::incline(30.0, 35.0, 1e-3, 1000)?;
-            c.rows.push(Row::absolute("slip after 1 s, φ = 35° (m)", hold, 0.0, 1e-3));
+            c.rows.push(Row::absolute("slip after 1 s, φ = 35° (m)", hold, 0.0, 2.6e-6));
             Ok(())
         },
     ));
     all.push(case(
         "Jointed block on an incline",
-        "One block cut by a `[[joint_set]]` trace dipping θ = 30°; the lower piece is held, the upper slides on the face the joint made, which takes the joint's interface (φ = 20°; the default has 60°). Slip after 1 s against ½g(sin θ − cos θ tan φ)t², tolerance 2%; with φ = 35° on the joint, less than 1 mm.",
+        "One block cut by a `[[joint_set]]` trace dipping θ = 30°; the lower piece is held, the upper slides on the face the joint made, which takes the joint's interface (φ = 20°; the default has 60°). Slip after 1 s against ½g(sin θ − cos θ tan φ)t², tolerance 2%; with φ = 35° on the joint, the upper piece stays at its elastic offset (estimated 3.0e-6 m; tests/contact_friction.rs): less than 1.2e-5 m.",
         |c| {
             let (slip, exact, _) = cases::jointed_incline(30.0, 20.0, 1e-3, 1000)?;
             c.rows.push(Row::relative("slip after 1 s, φ = 20° (m)", slip, exact, 0.02));
             let (hold, _, _) = cases::jointed_incline(30.0, 35.0, 1e-3, 1000)?;
-            c.rows.push(Row::absolute("slip after 1 s, φ = 35° (m)", hold, 0.0, 1e-3));
+            c.rows.push(Row::absolute("slip after 1 s, φ = 35° (m)", hold, 0.0, 1.2e-5));
             Ok(())
         },
     ));
@@ -282,12 +300,14 @@ pub fn run(size: Size, out: &Path) -> Vec<Case> {
         move |c| {
             let strength = 1.0e6 * 30f64.to_radians().tan();
             let rm = cases::direct_shear(1.0e6, 30.0, "return-mapping")?;
+            let sliding = rm.iter().filter(|s| s.sliding).count();
+            c.rows.push(Row::at_least("return mapping: steps in which the joint slides (≥ 3)", sliding as f64, 3.0));
             for (i, s) in rm.iter().enumerate().filter(|(_, s)| s.sliding) {
                 c.rows.push(Row::relative(&format!("return mapping τ, step {} (Pa)", i + 1), s.tau, strength, 1e-3));
             }
             let conv = cases::direct_shear(1.0e6, 30.0, "conventional")?;
             let peak = conv.iter().map(|s| s.tau).fold(0.0, f64::max);
-            c.rows.push(Row { quantity: "conventional peak τ above strength (Pa; must be > 0.1%)".into(), computed: peak, reference: strength, error: if peak > 1.001 * strength { 0.0 } else { 1.0 }, tolerance: 0.0 });
+            c.rows.push(Row::at_least("conventional peak τ (Pa; at least 0.1% above the strength)", peak, 1.001 * strength));
             c.plots = figure_direct_shear(&out_plot.join("direct_shear"), &rm, &conv, strength)?;
             Ok(())
         },
@@ -307,7 +327,7 @@ pub fn run(size: Size, out: &Path) -> Vec<Case> {
     let out_plot = out.to_path_buf();
     all.push(case(
         "Shaken slope (paper, Figure 6)",
-        "Two limestone blocks (φ = 40.5°, p_N = 10 GN/m, p_S = 10 MN/m, Δt = 1 ms) on a plane dipping θ, table shaken horizontally: slip against the Newmark (1965) rigid sliding block under the same record. Tolerances (the issue's): final slip 5%, onset of sliding (slip > 1 mm: above the creep of partial slip on the elastic joint) 0.03 s.",
+        "Two limestone blocks (φ = 40.5°, p_N = 10 GN/m, p_S = 10 MN/m, Δt = 1 ms) on a plane dipping θ, table shaken horizontally: slip against the Newmark (1965) rigid sliding block under the same record. Tolerances (the issue's): final slip 5% (the conventional rule's 10%), onset of sliding (the first step at whose end the whole joint slides; the reference's first slip) 0.03 s — except θ = 35° under the steady 2 Hz record, where a record peak of 0.98 a_y makes the elastic block yield a cycle before the rigid one (tests/shaken_slope.rs): there the record at the onset is checked to lie within 5% below a_y.",
         move |c| {
             let runs: Vec<(f64, &str, SineMotion)> = if full {
                 vec![(30.0, "ramped 5 Hz", cases::RAMPED_5HZ), (30.0, "steady 2 Hz", cases::STEADY_2HZ), (35.0, "ramped 5 Hz", cases::RAMPED_5HZ), (35.0, "steady 2 Hz", cases::STEADY_2HZ)]
@@ -319,11 +339,21 @@ pub fn run(size: Size, out: &Path) -> Vec<Case> {
                 let conv = cases::shaken_slope(theta, &motion, "conventional")?;
                 let onset = |s: &cases::ShakenSlope| (s.onset.unwrap_or(f64::NAN), s.onset_reference.unwrap_or(f64::NAN));
                 let (t, tr) = onset(&rm);
-                c.rows.push(Row::absolute(&format!("θ = {theta}°, {name}: onset, return mapping (s)"), t, tr, 0.03));
-                c.rows.push(Row::relative(&format!("θ = {theta}°, {name}: final slip, return mapping (m)"), rm.final_slip, rm.final_reference, 0.05));
                 let (tc, _) = onset(&conv);
-                c.rows.push(Row { quantity: format!("θ = {theta}°, {name}: onset, conventional (s; reported)"), computed: tc, reference: tr, error: 0.0, tolerance: 0.0 });
-                c.rows.push(Row { quantity: format!("θ = {theta}°, {name}: final slip, conventional (m; reported)"), computed: conv.final_slip, reference: conv.final_reference, error: 0.0, tolerance: 0.0 });
+                if (theta, name) == (35.0, "steady 2 Hz") {
+                    // the documented early onset (tests/shaken_slope.rs): the record's peak at
+                    // 0.375 s reaches 0.98 a_y, where the elastic block's joint yields, a
+                    // cycle before the rigid block's
+                    for (alg, s, ts) in [("return mapping", &rm, t), ("conventional", &conv, tc)] {
+                        let a = s.history.iter().find(|h| h.0 == ts).map(|h| -h.1 / s.yield_acceleration).unwrap_or(f64::NAN);
+                        c.rows.push(Row::absolute(&format!("θ = {theta}°, {name}: onset, {alg}, a cycle before the reference's at {tr} s: record / a_y there (0.95–1)"), a, 0.975, 0.025));
+                    }
+                } else {
+                    c.rows.push(Row::absolute(&format!("θ = {theta}°, {name}: onset, return mapping (s)"), t, tr, 0.03));
+                    c.rows.push(Row::absolute(&format!("θ = {theta}°, {name}: onset, conventional (s)"), tc, tr, 0.03));
+                }
+                c.rows.push(Row::relative(&format!("θ = {theta}°, {name}: final slip, return mapping (m)"), rm.final_slip, rm.final_reference, 0.05));
+                c.rows.push(Row::relative(&format!("θ = {theta}°, {name}: final slip, conventional (m; 10%, measured +2.3…+4.6%)"), conv.final_slip, conv.final_reference, 0.10));
                 let stem = out_plot.join(format!("shaken_slope_{}deg_{}", theta as i64, name.replace(' ', "_")));
                 c.plots.extend(figure_shaking_table(&stem, &rm, &conv, &format!("θ = {theta}°, {name}"))?);
             }
@@ -434,4 +464,29 @@ pub fn figure_blocks(
         width: 3,
     }));
     plot_map(stem, title, &polygons, &lines, 1100).map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Case, Row};
+
+    /// A row passes only on a finite error within its tolerance: a NaN (a case that did
+    /// not produce its figure) fails, and so does a case without rows or with a failure.
+    #[test]
+    fn rows_and_cases_fail_when_they_should() {
+        assert!(Row::relative("x", 1.009, 1.0, 0.01).pass());
+        assert!(!Row::relative("x", 1.011, 1.0, 0.01).pass());
+        assert!(!Row::relative("x", f64::NAN, 1.0, 0.01).pass());
+        assert!(!Row::absolute("x", 0.0, f64::NAN, 1.0).pass());
+        assert!(Row::at_least("x", 3.0, 3.0).pass());
+        assert!(!Row::at_least("x", 2.0, 3.0).pass());
+        assert!(!Row::at_least("x", f64::NAN, 3.0).pass());
+        assert!(!Row::at_least("x", 577.0, 1.001 * 577.35).pass());
+        let mut c = Case::default();
+        assert!(!c.pass(), "a case without rows");
+        c.rows.push(Row::relative("x", 1.0, 1.0, 0.0));
+        assert!(c.pass());
+        c.rows.push(Row::at_least("y", 0.0, 1.0));
+        assert!(!c.pass(), "one failing row fails the case");
+    }
 }

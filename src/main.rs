@@ -195,6 +195,9 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
             );
         }
     }
+    for line in nmm::check::record_lines(m) {
+        println!("{line}");
+    }
     if m.stages.is_empty() {
         println!(
             "analysis: {:?}, dt = {} s, {} steps, friction {:?}",

@@ -226,9 +226,12 @@ fn check_invariants(m: &Model) {
         assert!(g.block < nb && g.area > 0.0);
     }
     if let Some(bm) = &m.base_motion {
-        assert!(bm.samples.len() >= 2);
-        assert!(bm.samples.windows(2).all(|w| w[1][0] > w[0][0]));
-        assert!(bm.samples.iter().flatten().all(|x| x.is_finite()));
+        assert!(bm.axes.iter().any(|a| a.len() >= 2));
+        for a in &bm.axes {
+            assert!(a.is_empty() || a.len() >= 2);
+            assert!(a.windows(2).all(|w| w[1][0] > w[0][0]));
+            assert!(a.iter().flatten().all(|x| x.is_finite()));
+        }
     }
     for mo in &m.monitors {
         match &mo.kind {

@@ -18,6 +18,7 @@ pub mod material;
 pub mod model;
 pub mod motion;
 pub mod output;
+pub mod picture;
 pub mod simulation;
 pub mod solver;
 pub mod time;

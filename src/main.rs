@@ -190,6 +190,12 @@ fn cutting_line(m: &nmm::model::Model) -> Option<String> {
             "; {} piece(s) smaller than min_block_area = {a} m² merged into their neighbours",
             m.merged.len()
         ));
+        if !m.kept_small.is_empty() {
+            line.push_str(&format!(
+                ", {} kept (no merge that bridges no joint)",
+                m.kept_small.len()
+            ));
+        }
     }
     Some(line)
 }
@@ -231,8 +237,21 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
         println!("{line}");
         for g in &m.merged {
             println!(
-                "  merged a piece of {} m² at [{}, {}] into block \"{}\"",
-                g.area, g.centroid[0], g.centroid[1], m.blocks[g.block].name
+                "  merged a piece of {} m² at [{}, {}] into block \"{}\"{}",
+                g.area,
+                g.centroid[0],
+                g.centroid[1],
+                m.blocks[g.block].name,
+                g.bridges.map_or(String::new(), |j| format!(
+                    " (bridging joint \"{}\")",
+                    m.joints[j].name
+                ))
+            );
+        }
+        for g in &m.kept_small {
+            println!(
+                "  kept block \"{}\" ({} m² at [{}, {}]): smaller than min_block_area, but every merge would bridge a joint",
+                m.blocks[g.block].name, g.area, g.centroid[0], g.centroid[1]
             );
         }
     }

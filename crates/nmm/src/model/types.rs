@@ -161,6 +161,9 @@ pub struct MergedPiece {
     pub block: usize,
     pub area: f64,
     pub centroid: Vec2,
+    /// For a merge: the joint (index into `Model::joints`) it bridges — a joint face it
+    /// crossed goes on past it as a face of other blocks —, if any.
+    pub bridges: Option<usize>,
 }
 
 /// Which contacts an interface applies to.
@@ -375,6 +378,9 @@ pub struct Model {
     /// Regions enclosed by loops of traces that reach no block boundary: they stay part
     /// of the block around them (a block cannot have a hole); their loops are cracks.
     pub enclosed: Vec<MergedPiece>,
+    /// Pieces smaller than `[cover] min_block_area` kept as they are because every merge
+    /// would have bridged a joint (`block` is the piece itself).
+    pub kept_small: Vec<MergedPiece>,
     /// `[cover] min_block_area` (m²), if given.
     pub min_block_area: Option<f64>,
     /// `[[stage]]` tables in file order (empty: the model is one stage, `analysis`).

@@ -136,6 +136,7 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
         cracks: cutting.cracks,
         merged: cutting.merged,
         enclosed: cutting.enclosed,
+        kept_small: cutting.kept_small,
         min_block_area: cov.min_block_area,
         stages,
     })

@@ -1443,4 +1443,52 @@ mod tests {
                 || (signed_area(&into.vertices) - 1.0).abs() < 1e-12
         );
     }
+
+    #[test]
+    fn a_small_piece_is_not_hooked_across_a_joint_that_goes_on() {
+        // a thin bed (bedding y = 0.2) with a cross joint at x = 1 ending on the bedding, a
+        // thick bed above with a cross joint at x = 2: the sliver [0, 1] × [0, 0.2] shares
+        // 1 m of bedding with the block above and 0.2 m of cross joint with the block
+        // behind it. Merging across the longest face would hook the block above into the
+        // lower bed (the bedding goes on past the sliver as that block's own face): it joins
+        // the block behind it, [1, 3] × [0, 0.2], in its own bed.
+        let p = rect(0.0, 0.0, 3.0, 2.0);
+        let t = [
+            line([-1.0, 0.2], [4.0, 0.2], 0),
+            line([1.0, 0.0], [1.0, 0.2], 1),
+            line([2.0, 0.2], [2.0, 2.0], 1),
+        ];
+        let c = cut_polygon(&p, &t, 1e-9, Some(0.3)).unwrap();
+        assert_eq!(c.merged.len(), 1);
+        assert!(c.kept.is_empty());
+        let into = &c.pieces[c.merged[0].into];
+        assert!(
+            (signed_area(&into.vertices) - 0.6).abs() < 1e-12,
+            "{into:?}"
+        );
+        assert!(
+            into.vertices.iter().all(|v| v[1] <= 0.2 + 1e-12),
+            "{into:?}"
+        );
+        assert_eq!(c.merged[0].bridges, None);
+    }
+
+    #[test]
+    fn a_small_piece_between_joints_that_go_on_everywhere_is_kept() {
+        // a 0.1 × 0.1 piece at the crossing of two persistent strips: every face's joint
+        // goes on past both of its ends, so no merge is safe
+        let p = rect(0.0, 0.0, 3.0, 3.0);
+        let t = [
+            line([1.45, -1.0], [1.45, 4.0], 0),
+            line([1.55, -1.0], [1.55, 4.0], 0),
+            line([-1.0, 1.45], [4.0, 1.45], 1),
+            line([-1.0, 1.55], [4.0, 1.55], 1),
+        ];
+        let c = cut_polygon(&p, &t, 1e-9, Some(0.05)).unwrap();
+        assert_eq!(c.pieces.len(), 9);
+        assert!(c.merged.is_empty(), "{:?}", c.merged);
+        assert_eq!(c.kept.len(), 1);
+        assert!((c.kept[0].area - 0.01).abs() < 1e-12);
+        assert!((c.kept[0].centroid[0] - 1.5).abs() < 1e-12);
+    }
 }

@@ -127,6 +127,12 @@ pub struct RunSummary {
     pub active_set_changes: usize,
     /// Static mode: steps that did not end in equilibrium.
     pub not_in_equilibrium: usize,
+    /// Steps done in static mode (all the run's, a resumed run's included).
+    pub static_steps: usize,
+    /// A resumed run: the wall-clock time of the run before its checkpoint, and the cover
+    /// time it had then.
+    pub prior_total: Duration,
+    pub prior_cover: Duration,
     /// Whether the last step ended in equilibrium.
     pub last_equilibrium: bool,
     /// The analysis is static.
@@ -199,7 +205,7 @@ impl RunSummary {
         Some(format!(
             "not in equilibrium: {} of {} static step(s) found no equilibrium (a mechanism; the motion of each was limited), {}",
             self.not_in_equilibrium,
-            self.steps,
+            self.static_steps,
             if self.last_equilibrium {
                 "the last step did"
             } else {
@@ -600,7 +606,11 @@ pub fn run_simulation(
         Ok(()) => RunStatus::Finished,
     };
     summary.error = result.as_ref().err().map(|e| one_line(&e.to_string()));
-    summary.total_time = sim.timings.cover + start.elapsed();
+    // a resumed run: the time before its checkpoint, then this process's cover and steps
+    summary.total_time = summary.prior_total
+        + sim.timings.cover.saturating_sub(summary.prior_cover)
+        + start.elapsed();
+    summary.static_mode |= summary.static_steps > 0;
     summary.peak_memory_bytes = peak_memory_bytes();
     progress.finish(summary.status);
     let path = out.join("summary.json");
@@ -619,7 +629,8 @@ fn step_to_end(
     progress: &mut dyn RunObserver,
     summary: &mut RunSummary,
 ) -> Result<(), RunError> {
-    let t_out = Instant::now();
+    let t_run = Instant::now();
+    let t_out = t_run;
     write_block_table(&sim.model, &out.join("blocks.csv"))?;
     let hist_path = out.join("history.csv");
     let columns = history_columns(&sim.model);
@@ -667,6 +678,9 @@ fn step_to_end(
         summary.active_set_changes = o.active_set_changes;
         summary.not_in_equilibrium = o.not_in_equilibrium;
         summary.last_equilibrium = o.last_equilibrium;
+        summary.static_steps = o.static_steps;
+        summary.prior_total = o.total;
+        summary.prior_cover = o.timings[0];
         let l = o.linear;
         summary.linear.solves = l[0];
         summary.linear.gmres_iterations = l[1];
@@ -715,6 +729,7 @@ fn step_to_end(
         summary.active_set_changes += rep.active_set_changes;
         summary.not_in_equilibrium += usize::from(!rep.equilibrium);
         summary.last_equilibrium = rep.equilibrium;
+        summary.static_steps += usize::from(sim.model.analysis.mode == crate::model::Mode::Static);
         summary.linear += rep.linear;
         summary.contacts.push(
             sim.contacts
@@ -775,6 +790,10 @@ fn step_to_end(
                 active_set_changes: summary.active_set_changes,
                 not_in_equilibrium: summary.not_in_equilibrium,
                 last_equilibrium: summary.last_equilibrium,
+                static_steps: summary.static_steps,
+                total: summary.prior_total
+                    + sim.timings.cover.saturating_sub(summary.prior_cover)
+                    + t_run.elapsed(),
                 linear: [
                     summary.linear.solves,
                     summary.linear.gmres_iterations,

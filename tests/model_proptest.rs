@@ -236,6 +236,7 @@ fn check_invariants(m: &Model) {
     for mo in &m.monitors {
         match &mo.kind {
             MonitorKind::Point { block, .. } => assert!(*block < nb),
+            MonitorKind::Block { blocks } => assert!(blocks.iter().all(|&b| b < nb)),
             MonitorKind::Interface { first, second } => {
                 assert!(!first.is_empty() && !second.is_empty());
                 assert!(first.iter().chain(second.iter()).all(|&x| x < nb));

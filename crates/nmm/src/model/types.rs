@@ -346,6 +346,9 @@ pub enum MonitorKind {
         first: Vec<usize>,
         second: Vec<usize>,
     },
+    /// A block (or every piece of a cut block): the displacement of its centroid and its
+    /// mean rotation.
+    Block { blocks: Vec<usize> },
 }
 
 #[derive(Debug, Clone, PartialEq)]

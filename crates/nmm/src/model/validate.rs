@@ -1339,19 +1339,39 @@ fn monitors(root: &Doc, blocks: &[Block], names: &Names, tol: f64) -> R<Vec<Moni
         let mut f = root.fields(format!("[[monitor]] #{}", k + 1), t, "monitor", Some(k));
         let name = f.name("name")?;
         f.set_place(format!("[[monitor]] {name:?}"));
-        f.deny_unknown(&["name", "point", "interface"])?;
+        f.deny_unknown(&["name", "point", "interface", "block"])?;
         if name.chars().any(|c| c == ',' || c == '"' || c.is_control()) {
             return Err(f.err("name", "must not contain commas, quotes or control characters (it heads history.csv columns)"));
         }
         if !seen.insert(name.clone()) {
             return Err(f.err("name", "duplicate monitor name"));
         }
+        let given = ["point", "interface", "block"]
+            .into_iter()
+            .filter(|k| f.has(k))
+            .collect::<Vec<_>>();
+        if given.len() > 1 {
+            return Err(f.err(
+                given[1],
+                "give one of `point`, `interface` and `block`, not several",
+            ));
+        }
         let kind = match (f.has("point"), f.has("interface")) {
-            (true, true) => {
-                return Err(f.err("interface", "give either `point` or `interface`, not both"))
+            _ if f.has("block") => {
+                let name = f.req("block", string)?;
+                let (set, _) = names
+                    .get(name)
+                    .ok_or_else(|| f.err("block", format!("unknown block {name:?}")))?;
+                MonitorKind::Block {
+                    blocks: set.to_vec(),
+                }
             }
+            (true, true) => unreachable!("refused above"),
             (false, false) => {
-                return Err(f.err("point", "missing: give either `point` or `interface`"))
+                return Err(f.err(
+                    "point",
+                    "missing: give one of `point`, `interface` and `block`",
+                ))
             }
             (true, false) => {
                 let p = f.req("point", point)?;

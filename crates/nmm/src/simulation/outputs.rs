@@ -323,9 +323,10 @@ fn io(path: &Path, e: std::io::Error) -> RunError {
 pub fn history_columns(model: &Model) -> Vec<String> {
     let mut cols = Vec::new();
     for m in &model.monitors {
-        let names: [&str; 4] = match m.kind {
-            MonitorKind::Point { .. } => ["ux", "uy", "vx", "vy"],
-            MonitorKind::Interface { .. } => ["fx", "fy", "fn", "nc"],
+        let names: &[&str] = match m.kind {
+            MonitorKind::Point { .. } => &["ux", "uy", "vx", "vy"],
+            MonitorKind::Interface { .. } => &["fx", "fy", "fn", "nc"],
+            MonitorKind::Block { .. } => &["x", "y", "rotation"],
         };
         cols.extend(names.iter().map(|c| format!("{}.{}", m.name, c)));
     }
@@ -346,10 +347,46 @@ pub fn monitor_values(sim: &Simulation) -> Vec<f64> {
                 let f = sim.contacts.interface_force_between(first, second);
                 vals.extend_from_slice(&[f.fx, f.fy, f.fn_sum, f.count as f64]);
             }
+            (MonitorKind::Block { blocks }, _) => {
+                vals.extend_from_slice(&block_motion(sim, blocks))
+            }
             _ => vals.extend_from_slice(&[f64::NAN; 4]),
         }
     }
     vals
+}
+
+/// The displacement of the centroid of `blocks` (together) and their mean rotation: the
+/// area-weighted means over their manifold elements (in the current geometry) of the
+/// displacement and of each element's rotation θ = atan2(∂uy/∂x − ∂ux/∂y, 2 − ∂ux/∂x −
+/// ∂uy/∂y) (rad, counter-clockwise; the rotation of the element's deformation, exact for a
+/// rigid rotation of any size, ½(∂uy/∂x − ∂ux/∂y) when small).
+pub fn block_motion(sim: &Simulation, blocks: &[usize]) -> [f64; 3] {
+    let (mut a, mut ux, mut uy, mut rot) = (0.0, 0.0, 0.0, 0.0);
+    for &b in blocks {
+        for &ei in &sim.disc.block_elements[b] {
+            let e = &sim.disc.elements[ei];
+            let area = crate::geometry::polygon::signed_area(&e.polygon);
+            if area.is_nan() || area <= 0.0 {
+                continue;
+            }
+            let c = crate::geometry::moments::polygon_moments(&e.polygon, e.polygon[0]).centroid();
+            let ue: [f64; 6] = crate::assembly::global::gather(&sim.u, &sim.elem_dofs[ei]);
+            let w = e.weights(c);
+            ux += area * (w[0] * ue[0] + w[1] * ue[2] + w[2] * ue[4]);
+            uy += area * (w[0] * ue[1] + w[1] * ue[3] + w[2] * ue[5]);
+            let g = e.weight_gradients();
+            // ∂u_i/∂x_j
+            let d = |i: usize, j: usize| (0..3).map(|k| g[k][j] * ue[2 * k + i]).sum::<f64>();
+            rot += area * (d(1, 0) - d(0, 1)).atan2(2.0 - d(0, 0) - d(1, 1));
+            a += area;
+        }
+    }
+    if a > 0.0 {
+        [ux / a, uy / a, rot / a]
+    } else {
+        [f64::NAN; 3]
+    }
 }
 
 /// The deformed manifold elements as a VTK grid.

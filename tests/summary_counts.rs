@@ -59,7 +59,7 @@ fn the_equilibrium_line_counts_static_steps_only() {
     let n = s["equilibrium"]["steps_not_in_equilibrium"]
         .as_u64()
         .unwrap();
-    assert!(n >= 1 && n <= 12, "{n}");
+    assert!((1..=12).contains(&n), "{n}");
     assert!(
         line.starts_with(&format!("not in equilibrium: {n} of 12 static step(s)")),
         "{line}"

@@ -82,8 +82,38 @@ enum Command {
     },
     /// Draw the paper's Figure 4 (direct shear) and Figure 6 (shaking table) as PNG and SVG.
     Figures {
-        #[arg(long, value_name = "DIR", default_value = "docs")]
+        #[arg(long, value_name = "DIR", default_value = "figures")]
         out: PathBuf,
+    },
+    /// Draw a model as cut (MODEL.toml) or a frame of a run (RUN_DIR) into a PNG or SVG.
+    Plot {
+        /// A model file, or a run's output folder.
+        #[arg(value_name = "MODEL.toml|RUN_DIR")]
+        target: PathBuf,
+        /// The picture (.png or .svg); with --every, a folder for the sequence.
+        #[arg(long, value_name = "FILE")]
+        out: PathBuf,
+        /// Run: the frame to draw, 0 = the first frame of blocks.pvd.
+        #[arg(long, value_name = "N", conflicts_with_all = ["time", "last", "every"])]
+        frame: Option<usize>,
+        /// Run: the frame nearest to this time (s).
+        #[arg(long, value_name = "T", conflicts_with_all = ["last", "every"])]
+        time: Option<f64>,
+        /// Run: the last frame (the default).
+        #[arg(long, conflicts_with = "every")]
+        last: bool,
+        /// Run: every K-th frame (and the last) as DIR/frame_NNNN.png.
+        #[arg(long, value_name = "K")]
+        every: Option<usize>,
+        /// Run: the field the blocks are coloured by: u, ux, uy, sxx, syy or sxy.
+        #[arg(long, default_value = "u")]
+        field: String,
+        /// Model: draw the cover's manifold elements too.
+        #[arg(long)]
+        mesh: bool,
+        /// Width of the picture in pixels.
+        #[arg(long, default_value_t = 1200)]
+        width: u32,
     },
 }
 
@@ -117,6 +147,17 @@ fn main() -> ExitCode {
         Command::Check { model, json, quiet } => check(&model, json, quiet),
         Command::Verify { out, full } => verify(&out, full),
         Command::Figures { out } => figures(&out),
+        Command::Plot {
+            target,
+            out,
+            frame,
+            time,
+            last: _,
+            every,
+            field,
+            mesh,
+            width,
+        } => plot(&target, &out, (frame, time, every), &field, mesh, width),
     };
     match result {
         Ok(code) => code,
@@ -162,6 +203,12 @@ fn cutting_line(m: &nmm::model::Model) -> Option<String> {
             "; {} piece(s) smaller than min_block_area = {a} m² merged into their neighbours",
             m.merged.len()
         ));
+        if !m.kept_small.is_empty() {
+            line.push_str(&format!(
+                ", {} kept (no merge that bridges no joint)",
+                m.kept_small.len()
+            ));
+        }
     }
     Some(line)
 }
@@ -203,10 +250,26 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
         println!("{line}");
         for g in &m.merged {
             println!(
-                "  merged a piece of {} m² at [{}, {}] into block \"{}\"",
-                g.area, g.centroid[0], g.centroid[1], m.blocks[g.block].name
+                "  merged a piece of {} m² at [{}, {}] into block \"{}\"{}",
+                g.area,
+                g.centroid[0],
+                g.centroid[1],
+                m.blocks[g.block].name,
+                g.bridges.map_or(String::new(), |j| format!(
+                    " (bridging joint \"{}\")",
+                    m.joints[j].name
+                ))
             );
         }
+        for g in &m.kept_small {
+            println!(
+                "  kept block \"{}\" ({} m² at [{}, {}]): smaller than min_block_area, but every merge would bridge a joint",
+                m.blocks[g.block].name, g.area, g.centroid[0], g.centroid[1]
+            );
+        }
+    }
+    for line in nmm::check::record_lines(m) {
+        println!("{line}");
     }
     if m.stages.is_empty() {
         println!(
@@ -428,6 +491,75 @@ fn execute(
         );
         return Ok(ExitCode::from(130));
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `nmm plot`: a model as cut, or frames of a run.
+fn plot(
+    target: &Path,
+    out: &Path,
+    (frame, time, every): (Option<usize>, Option<f64>, Option<usize>),
+    field: &str,
+    mesh: bool,
+    width: u32,
+) -> anyhow::Result<ExitCode> {
+    use nmm::output::plot::plot_scene;
+    use nmm::picture::{frame_scene, model_scene, run_frames, Field};
+    if !target.is_dir() {
+        if frame.is_some() || time.is_some() || every.is_some() {
+            anyhow::bail!(
+                "{}: --frame, --time and --every draw a run's frames: give a run's output folder",
+                target.display()
+            );
+        }
+        let model = nmm::model::load_model(target)?;
+        let pieces = model.blocks.len();
+        let title = format!("{}: {pieces} blocks as cut", target.display());
+        let scene = if mesh {
+            let sim = nmm::simulation::Simulation::new(model)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", target.display()))?;
+            model_scene(&sim.model, Some(&sim.disc), &title)
+        } else {
+            model_scene(&model, None, &title)
+        };
+        plot_scene(out, &scene, width)?;
+        println!("{}", out.display());
+        return Ok(ExitCode::SUCCESS);
+    }
+    if mesh {
+        anyhow::bail!("--mesh draws a model's cover: give a model file");
+    }
+    let field = Field::parse(field).map_err(anyhow::Error::msg)?;
+    let frames = run_frames(target).map_err(anyhow::Error::msg)?;
+    if let Some(k) = every {
+        if k == 0 {
+            anyhow::bail!("--every: must be at least 1");
+        }
+        std::fs::create_dir_all(out).with_context(|| format!("{}", out.display()))?;
+        let mut indices: Vec<usize> = (0..frames.len()).step_by(k).collect();
+        if indices.last() != Some(&(frames.len() - 1)) {
+            indices.push(frames.len() - 1);
+        }
+        for i in indices {
+            let scene = frame_scene(target, i, field).map_err(anyhow::Error::msg)?;
+            let file = out.join(format!("frame_{i:04}.png"));
+            plot_scene(&file, &scene, width)?;
+            println!("{}", file.display());
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    let index = match (frame, time) {
+        (Some(n), _) => n,
+        (None, Some(t)) => frames
+            .iter()
+            .enumerate()
+            .min_by(|a, b| (a.1 .0 - t).abs().total_cmp(&(b.1 .0 - t).abs()))
+            .map_or(0, |(i, _)| i),
+        (None, None) => frames.len() - 1,
+    };
+    let scene = frame_scene(target, index, field).map_err(anyhow::Error::msg)?;
+    plot_scene(out, &scene, width)?;
+    println!("{}", out.display());
     Ok(ExitCode::SUCCESS)
 }
 

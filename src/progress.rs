@@ -8,6 +8,11 @@
 //!
 //! A run that finishes leaves the bar full; an interrupted or failed one leaves it where the
 //! run stopped (never a false 100% before "interrupted").
+//!
+//! When stderr is not a terminal (a batch job, a pipe), an enabled, non-quiet progress
+//! writes instead one plain line every 10 s (`NMM_PROGRESS_SECONDS` sets another interval):
+//! `progress: step 1200/8020 (15.0%), t = 1.2 s, 10 s elapsed, about 57 s left; solves …,
+//! cuts …, active-set changes …`.
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
@@ -20,12 +25,38 @@ pub struct Progress {
     bar: ProgressBar,
     drawn: bool,
     quiet: bool,
+    /// Plain lines when the bar is not drawn: (interval, start, last line, counters).
+    plain: Option<Plain>,
+}
+
+/// The state of the plain progress lines.
+struct Plain {
+    every: std::time::Duration,
+    start: std::time::Instant,
+    last: std::time::Instant,
+    counts: String,
+    first_step: usize,
+}
+
+/// The interval of the plain progress lines: `NMM_PROGRESS_SECONDS`, else 10 s.
+fn plain_interval() -> std::time::Duration {
+    let s = std::env::var("NMM_PROGRESS_SECONDS")
+        .ok()
+        .and_then(|v| v.parse::<f64>().ok())
+        .filter(|v| v.is_finite() && *v >= 0.0)
+        .unwrap_or(10.0);
+    std::time::Duration::from_secs_f64(s)
 }
 
 impl Progress {
     /// A bar over `total_steps` steps, drawn only if `enabled` and stderr is a terminal.
     pub fn new(total_steps: usize, enabled: bool) -> Self {
-        Self::with_terminal(total_steps, enabled && std::io::stderr().is_terminal())
+        let terminal = std::io::stderr().is_terminal();
+        let mut p = Self::with_terminal(total_steps, enabled && terminal);
+        if enabled && !terminal {
+            p.plain = Some(Plain::new(plain_interval()));
+        }
+        p
     }
 
     fn with_terminal(total_steps: usize, drawn: bool) -> Self {
@@ -42,13 +73,46 @@ impl Progress {
             bar,
             drawn,
             quiet: false,
+            plain: None,
         }
     }
 
-    /// Hide the model's warnings (`--quiet`).
+    /// Hide the model's warnings and the plain progress lines (`--quiet`).
     pub fn quiet(mut self, quiet: bool) -> Self {
         self.quiet = quiet;
+        if quiet {
+            self.plain = None;
+        }
         self
+    }
+
+    /// The plain progress line, if one is due (see the module doc).
+    fn plain_line(&mut self, step: usize, time: f64) -> Option<String> {
+        let total = self.bar.length().unwrap_or(0) as usize;
+        let p = self.plain.as_mut()?;
+        let now = std::time::Instant::now();
+        if now.duration_since(p.last) < p.every || step >= total {
+            return None;
+        }
+        p.last = now;
+        let elapsed = now.duration_since(p.start).as_secs_f64();
+        let done = step.saturating_sub(p.first_step);
+        let left = if done > 0 {
+            let left = elapsed / done as f64 * total.saturating_sub(step) as f64;
+            if left < 10.0 {
+                format!(", about {left:.1} s left")
+            } else {
+                format!(", about {left:.0} s left")
+            }
+        } else {
+            String::new()
+        };
+        Some(format!(
+            "progress: step {step}/{total} ({:.1}%), t = {}, {elapsed:.0} s elapsed{left}{}",
+            100.0 * step as f64 / total.max(1) as f64,
+            format_time(time),
+            p.counts
+        ))
     }
 
     /// Whether the bar is drawn.
@@ -58,15 +122,21 @@ impl Progress {
     }
 
     /// Reports that `step` steps are done and the simulated time is `time` (s).
-    pub fn set(&self, step: usize, time: f64) {
+    pub fn set(&mut self, step: usize, time: f64) {
         self.bar.set_position(step as u64);
         if self.drawn {
             self.bar.set_prefix(format_time(time));
         }
+        if let Some(line) = self.plain_line(step, time) {
+            eprintln!("{line}");
+        }
     }
 
     /// Shows the run's counters: linear solves, Δt cuts, active-set changes.
-    pub fn set_counts(&self, solves: usize, cuts: usize, changes: usize) {
+    pub fn set_counts(&mut self, solves: usize, cuts: usize, changes: usize) {
+        if let Some(p) = self.plain.as_mut() {
+            p.counts = format!("; solves {solves}, cuts {cuts}, active-set changes {changes}");
+        }
         if self.drawn {
             self.bar.set_message(format!(
                 "solves {solves}  cuts {cuts}  active-set changes {changes}"
@@ -116,9 +186,25 @@ fn format_time(t: f64) -> String {
     format!("{} s", s.trim_end_matches('0').trim_end_matches('.'))
 }
 
+impl Plain {
+    fn new(every: std::time::Duration) -> Self {
+        let now = std::time::Instant::now();
+        Plain {
+            every,
+            start: now,
+            last: now,
+            counts: String::new(),
+            first_step: 0,
+        }
+    }
+}
+
 impl nmm::simulation::RunObserver for Progress {
     fn start(&mut self, step: usize, total_steps: usize) {
         self.bar.set_length(total_steps as u64);
+        if let Some(p) = self.plain.as_mut() {
+            p.first_step = step;
+        }
         self.set(step, 0.0);
     }
     fn step_done(&mut self, step: usize, time: f64) {
@@ -164,7 +250,7 @@ mod tests {
 
     #[test]
     fn hidden_bar_tracks_position_without_drawing() {
-        let p = Progress::with_terminal(10, false);
+        let mut p = Progress::with_terminal(10, false);
         assert!(!p.is_drawn());
         p.set(3, 0.25);
         assert_eq!(p.position(), 3);
@@ -181,6 +267,30 @@ mod tests {
             RunObserver::finish(&mut p, status);
             assert_eq!(p.position(), 4, "{status:?}");
         }
+    }
+
+    #[test]
+    fn plain_lines_when_not_a_terminal() {
+        let mut p = Progress::with_terminal(10, false);
+        p.plain = Some(super::Plain::new(std::time::Duration::ZERO));
+        p.start(0, 10);
+        p.counts(7, 1, 3);
+        let line = p.plain_line(4, 0.004).unwrap();
+        assert!(
+            line.starts_with("progress: step 4/10 (40.0%), t = 0.004 s, "),
+            "{line}"
+        );
+        assert!(
+            line.ends_with("; solves 7, cuts 1, active-set changes 3"),
+            "{line}"
+        );
+        // none at the end, and none before the interval
+        assert!(p.plain_line(10, 0.01).is_none());
+        p.plain = Some(super::Plain::new(std::time::Duration::from_secs(3600)));
+        assert!(p.plain_line(5, 0.005).is_none());
+        // --quiet: none at all
+        let q = Progress::with_terminal(10, false).quiet(true);
+        assert!(q.plain.is_none());
     }
 
     #[test]

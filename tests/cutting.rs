@@ -785,10 +785,21 @@ proptest! {
             Ok(cut) => {
                 assert_tiles("random", &poly, &traces, &cut);
                 if let Some(m) = min_area {
-                    // a piece below the minimum remains only if the block was not cut at all
+                    // a piece below the minimum remains only if the block was not cut at all,
+                    // or if it is reported kept (every merge would have bridged a joint)
                     if cut.pieces.len() > 1 {
-                        for p in &cut.pieces {
-                            prop_assert!(area(&p.vertices) >= m, "piece of {} < {m}", area(&p.vertices));
+                        for (k, p) in cut.pieces.iter().enumerate() {
+                            let kept = cut.kept.iter().any(|g| g.into == k);
+                            prop_assert!(
+                                area(&p.vertices) >= m || kept,
+                                "piece of {} < {m}",
+                                area(&p.vertices)
+                            );
+                        }
+                        for g in &cut.kept {
+                            prop_assert!(g.area < m && g.into < cut.pieces.len());
+                            let a = area(&cut.pieces[g.into].vertices);
+                            prop_assert!((a - g.area).abs() <= 1e-9 * a.max(1.0), "{a} vs {}", g.area);
                         }
                     }
                     // merged: pieces below the minimum, and any piece a merge enclosed
@@ -970,9 +981,12 @@ fn the_jointed_slope_example_is_cut_as_described() {
     assert!(!m.cracks.is_empty() && !m.merged.is_empty());
     let total: f64 = m.blocks.iter().map(|b| area(&b.vertices)).sum();
     assert!((total - 830.0).abs() < 1e-9 * 830.0, "{total}");
-    for b in &m.blocks[1..] {
+    // every block is at least min_block_area, but the pieces kept because every merge
+    // would have bridged a joint (one, of 0.0002 m²)
+    assert_eq!(m.kept_small.len(), 1);
+    for (i, b) in m.blocks.iter().enumerate().skip(1) {
         assert!(
-            area(&b.vertices) >= 0.05,
+            area(&b.vertices) >= 0.05 || m.kept_small.iter().any(|g| g.block == i),
             "{} is below min_block_area",
             b.name
         );

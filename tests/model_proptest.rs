@@ -226,13 +226,17 @@ fn check_invariants(m: &Model) {
         assert!(g.block < nb && g.area > 0.0);
     }
     if let Some(bm) = &m.base_motion {
-        assert!(bm.samples.len() >= 2);
-        assert!(bm.samples.windows(2).all(|w| w[1][0] > w[0][0]));
-        assert!(bm.samples.iter().flatten().all(|x| x.is_finite()));
+        assert!(bm.axes.iter().any(|a| a.len() >= 2));
+        for a in &bm.axes {
+            assert!(a.is_empty() || a.len() >= 2);
+            assert!(a.windows(2).all(|w| w[1][0] > w[0][0]));
+            assert!(a.iter().flatten().all(|x| x.is_finite()));
+        }
     }
     for mo in &m.monitors {
         match &mo.kind {
             MonitorKind::Point { block, .. } => assert!(*block < nb),
+            MonitorKind::Block { blocks } => assert!(blocks.iter().all(|&b| b < nb)),
             MonitorKind::Interface { first, second } => {
                 assert!(!first.is_empty() && !second.is_empty());
                 assert!(first.iter().chain(second.iter()).all(|&x| x < nb));

@@ -171,6 +171,11 @@ fn cover_much_finer_than_the_blocks_need() {
     assert_eq!(warnings_of(&one), Vec::<String>::new());
 }
 
+/// The shipped examples get no warning, except the jointed slope's notes on its cutting:
+/// three slivers merged across a bedding plane that goes on past them as a face of other
+/// blocks, and a 0.0002 m² piece kept because every merge would bridge a joint (its joints
+/// were laid out before the merge rule of docs/model-format.md, Cutting; they are what
+/// `nmm check` is there to show).
 #[test]
 fn shipped_examples_are_silent() {
     let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/examples"));
@@ -180,7 +185,26 @@ fn shipped_examples_are_silent() {
         if path.extension().is_some_and(|e| e == "toml") {
             let model = nmm::model::load_model(&path).unwrap();
             let w = Simulation::new(model).unwrap().warnings();
-            assert!(w.is_empty(), "{}: {w:?}", path.display());
+            if path.ends_with("jointed_slope.toml") {
+                let bridges = w
+                    .iter()
+                    .filter(|w| w.contains("across joint \"bedding\""))
+                    .count();
+                let kept = w
+                    .iter()
+                    .filter(|w| {
+                        w.starts_with("1 piece(s) smaller than [cover] min_block_area kept")
+                    })
+                    .count();
+                assert_eq!(
+                    (bridges, kept, w.len()),
+                    (3, 1, 4),
+                    "{}: {w:?}",
+                    path.display()
+                );
+            } else {
+                assert!(w.is_empty(), "{}: {w:?}", path.display());
+            }
             n += 1;
         }
     }

@@ -186,6 +186,27 @@ def _entries(models, base):
     return dict(models)
 
 
+def _override_keys(entries) -> list:
+    """The key paths of the override entries (dicts), in order of first appearance, except
+    those that name a base column."""
+    keys = []
+    for value in entries.values():
+        if isinstance(value, Mapping):
+            for k in value:
+                k = str(k)
+                if k not in keys and k not in BASE_COLUMNS:
+                    keys.append(k)
+    return keys
+
+
+def _override_value(value, key):
+    """The value an entry gives `key` (None where it sets none, or is not an override
+    dict); lists (e.g. `analysis.gravity`) stay lists."""
+    if isinstance(value, Mapping):
+        return value.get(key)
+    return None
+
+
 def _missing(v) -> bool:
     return v is None or (isinstance(v, float) and math.isnan(v))
 
@@ -229,8 +250,10 @@ def run(
 
     Columns: status ("ok", "error" or "skipped"), error (the one-line message), out, steps,
     time, unknowns, iterations (total Newton iterations), iterations_max, cuts (Δt cuts),
-    steps_cut, wall_time (s, from summary.json), hash, then ``COL.min``, ``COL.max`` and
-    ``COL.final`` for each monitor column of history.csv.
+    steps_cut, wall_time (s, from summary.json), hash, then the overridden values (one
+    column per key path of the override dicts, e.g. ``interface.0.friction_angle``; empty
+    in rows that do not set it), then ``COL.min``, ``COL.max`` and ``COL.final`` for each
+    monitor column of history.csv.
     """
     import pandas as pd
 
@@ -312,8 +335,12 @@ def run(
     for c in BASE_COLUMNS:
         if c not in table.columns:
             table[c] = None
-    rest = [c for c in table.columns if c not in BASE_COLUMNS]
-    table = table[BASE_COLUMNS + rest]
+    # the overridden values, one column per key path, after the base columns
+    keys = _override_keys(entries)
+    for k in keys:
+        table[k] = [_override_value(entries.get(n), k) for n in table.index]
+    rest = [c for c in table.columns if c not in BASE_COLUMNS and c not in keys]
+    table = table[BASE_COLUMNS + keys + rest]
     table.index.name = "name"
     table.to_csv(out_dir / "study.csv")
     return table

@@ -50,6 +50,12 @@ def test_study_of_incline_variants(tmp_path, client, nmm_cli):
     assert (good["steps"] == 1000).all()
     for c in ("c.ux", "c.uy", "c.vx", "c.vy"):
         assert {f"{c}.min", f"{c}.max", f"{c}.final"} <= set(df.columns)
+    # the overridden values are columns, after the base columns and before the monitors'
+    assert "interface.0.friction_angle" in df.columns
+    assert list(good["interface.0.friction_angle"]) == list(PHIS)
+    cols = list(df.columns)
+    assert cols.index("interface.0.friction_angle") < cols.index("c.ux.min")
+    assert cols.index("hash") < cols.index("interface.0.friction_angle")
     # each final slip against the closed form ½ g (sin θ − cos θ tan φ) t²
     for name, phi in zip(good.index, PHIS):
         h = nmm.read_history(out / name / "history.csv")

@@ -7,7 +7,9 @@ use serde_json::{json, Value};
 /// The summary of `nmm check --json`: `model` (the source named by `model`), `blocks`,
 /// `fixed_blocks`, `cut_blocks`, `joints`, `cracks`, `merged_pieces`, `enclosed_pieces`,
 /// `physical_covers`, `manifold_elements`, `unknowns`, `block_area_total`,
-/// `smallest_block_area`, `smallest_block`, `stages` (the `[[stage]]` names), in that order.
+/// `smallest_block_area`, `smallest_block`, `stages` (the `[[stage]]` names), then
+/// `base_motion` (null without one: else one object per record, see [`record_json`]),
+/// in that order.
 pub fn check_json(sim: &Simulation, model: &str) -> Value {
     let m = &sim.model;
     let areas: Vec<f64> = m
@@ -33,7 +35,92 @@ pub fn check_json(sim: &Simulation, model: &str) -> Value {
         "smallest_block_area": smallest,
         "smallest_block": m.blocks.get(smallest_at).map(|b| b.name.as_str()),
         "stages": m.stages.iter().map(|st| st.name.as_str()).collect::<Vec<_>>(),
+        "base_motion": m.base_motion.as_ref().map(|b| b.records.iter().map(record_json).collect::<Vec<_>>()),
     })
+}
+
+/// One base-motion record as read and as applied: `axis` ("x", "y" or "x, y"),
+/// `source` (the file as written, or "table"), `samples`, `dt` (smallest interval, s),
+/// `dt_max`, `record_start` and `record_end` (times of its first and last sample, s),
+/// `pga_read_g` (peak |a| as read, g, per axis [x, y]), `start` and `duration` (the window
+/// used, s), `scale` (the factor applied), `pga_applied_g` (peak |a| as applied, g, per
+/// axis). g = 9.80665 m/s².
+pub fn record_json(r: &crate::model::RecordInfo) -> Value {
+    let g = crate::motion::G;
+    json!({
+        "axis": r.axis,
+        "source": r.source,
+        "samples": r.samples,
+        "dt": r.dt.0,
+        "dt_max": r.dt.1,
+        "record_start": r.span.0,
+        "record_end": r.span.1,
+        "pga_read_g": [r.pga_read[0] / g, r.pga_read[1] / g],
+        "start": r.start,
+        "duration": r.duration,
+        "scale": r.scale,
+        "pga_applied_g": [r.pga_applied[0] / g, r.pga_applied[1] / g],
+    })
+}
+
+/// One line per base-motion record for `nmm check`: dt, duration, PGA as read and as
+/// applied.
+pub fn record_lines(m: &crate::model::Model) -> Vec<String> {
+    let Some(b) = &m.base_motion else {
+        return Vec::new();
+    };
+    let g = crate::motion::G;
+    b.records
+        .iter()
+        .map(|r| {
+            let axes: Vec<usize> = match r.axis.as_str() {
+                "x" => vec![0],
+                "y" => vec![1],
+                _ => vec![0, 1],
+            };
+            let pga = |p: [f64; 2]| {
+                axes.iter()
+                    .map(|&k| {
+                        format!(
+                            "{}{:.4} g ({:.4} m/s²)",
+                            if axes.len() > 1 { ["x ", "y "][k] } else { "" },
+                            p[k] / g,
+                            p[k]
+                        )
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            let dt = if r.dt.1 - r.dt.0 <= 1e-6 * r.dt.1 {
+                format!("dt = {} s", sig(r.dt.0))
+            } else {
+                format!("dt = {} … {} s", sig(r.dt.0), sig(r.dt.1))
+            };
+            format!(
+                "base motion {}: {}: {} samples, {dt}, {} s long ({} … {} s); PGA as read {}; used {} … {} s ({} s, its t = 0 at {} s) × {} → PGA as applied {}",
+                r.axis,
+                r.source,
+                r.samples,
+                sig(r.span.1 - r.span.0),
+                sig(r.span.0),
+                sig(r.span.1),
+                pga(r.pga_read),
+                sig(r.start),
+                sig(r.start + r.duration),
+                sig(r.duration),
+                sig(r.start),
+                sig(r.scale),
+                pga(r.pga_applied)
+            )
+        })
+        .collect()
+}
+
+/// `x` to 9 significant digits, shortest form (`0.005`, not `0.004999999999999893`).
+fn sig(x: f64) -> String {
+    format!("{:.8e}", x)
+        .parse::<f64>()
+        .map_or_else(|_| x.to_string(), |v| v.to_string())
 }
 
 /// The smallest of `areas` and its index (∞ and 0 when empty).

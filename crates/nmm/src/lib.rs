@@ -19,6 +19,7 @@ pub mod model;
 pub mod motion;
 pub mod output;
 pub mod parallel;
+pub mod picture;
 pub mod simulation;
 pub mod solver;
 pub mod time;

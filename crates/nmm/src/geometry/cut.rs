@@ -37,8 +37,17 @@
 //!    face of negative area must be `P`'s outline.
 //! 8. **Merging** (optional `min_area`): repeatedly, the smallest piece below `min_area`
 //!    is merged into the neighbour with which it shares the longest total length of trace
-//!    edges (ties: the neighbour found first); every merge is reported in [`Cut::merged`].
-//!    A piece that merging encloses joins the piece around it (reported there too).
+//!    edges (ties: the neighbour found first) **among the safe ones**; every merge is
+//!    reported in [`Cut::merged`]. A piece that merging encloses joins the piece around it
+//!    (reported there too). A neighbour is *not safe* when, for some trace of the faces
+//!    they share, the trace goes on past an end of the shared run as a face (an alive edge
+//!    of the same trace, between two different pieces): (a) past both ends — the trace is
+//!    a face of the mass on both sides of the small piece, and the merged block would
+//!    straddle it —, or (b) past one end as a face of the small piece or of the neighbour —
+//!    the merged block would lie on both sides of the trace and keep its face on its own
+//!    boundary: a step that keys into the blocks around it (a face sliver merged across a
+//!    persistent bedding plane into the block above). A small piece without a safe
+//!    neighbour is kept as it is and reported in [`Cut::kept`].
 //! 9. **Output**: vertices of degree 2 that are not corners of `P`, between two collinear
 //!    edges of the same origin (a crack's root on an edge, a junction whose other edges
 //!    were removed) are dropped. Each piece is CCW, starts at its lowest-then-leftmost
@@ -93,6 +102,9 @@ pub struct Merge {
     pub into: usize,
     pub area: f64,
     pub centroid: Vec2,
+    /// A merge across a joint face whose trace goes on past one end of it as a face of
+    /// other pieces (module doc, step 8): that joint's id.
+    pub bridges: Option<usize>,
 }
 
 /// The result of [`cut_polygon`].
@@ -106,6 +118,9 @@ pub struct Cut {
     /// that does: the loop is a (closed) crack and the region stays part of the piece
     /// `into` (a piece with a hole is not a simple polygon).
     pub enclosed: Vec<Merge>,
+    /// Pieces smaller than `min_area` kept because every merge would bridge a joint
+    /// (module doc, step 8); `into` is the piece itself.
+    pub kept: Vec<Merge>,
 }
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -367,6 +382,7 @@ pub fn cut_polygon(
         cracks: Vec::new(),
         merged: Vec::new(),
         enclosed: Vec::new(),
+        kept: Vec::new(),
     };
     let bbox = Aabb::of_points(poly);
     let tol = if tol > 0.0 {
@@ -625,8 +641,10 @@ pub fn cut_polygon(
 
     // 8. merging
     let mut merged = Vec::new();
+    let mut kept_small: Vec<(u32, f64, Vec2)> = Vec::new();
     if let Some(min) = min_area.filter(|&m| m > 0.0) {
-        let (merges, root_of) = merge_small(&pos, &mut edges, &fcs, &face_of, min);
+        let (merges, root_of, kept) = merge_small(&pos, &mut edges, &fcs, &face_of, min);
+        kept_small = kept;
         if !merges.is_empty() {
             // a merge may enclose a piece: it joins the piece around it (its faces go)
             let ghost = prune(nv, &mut edges);
@@ -643,10 +661,10 @@ pub fn cut_polygon(
                         .or_insert(nf);
                 }
             }
-            for (root, area, centroid) in merges {
-                merged.push((final_of_root.get(&root).copied(), area, centroid));
+            for (root, area, centroid, b) in merges {
+                merged.push((final_of_root.get(&root).copied(), area, centroid, b));
             }
-            merged.extend(enclosed.into_iter().map(|(a, c)| (None, a, c)));
+            merged.extend(enclosed.into_iter().map(|(a, c)| (None, a, c, None)));
             fcs = f2;
         }
     }
@@ -745,12 +763,13 @@ pub fn cut_polygon(
 
     let merged = merged
         .into_iter()
-        .map(|(f, area, centroid)| Merge {
+        .map(|(f, area, centroid, b)| Merge {
             into: f
                 .and_then(|f| final_index.get(&f).copied())
                 .unwrap_or_else(|| index.locate(centroid)),
             area,
             centroid,
+            bridges: b.map(|t: u32| traces[t as usize].joint),
         })
         .collect();
     let enclosed = islands
@@ -759,6 +778,7 @@ pub fn cut_polygon(
             into: index.locate(centroid),
             area,
             centroid,
+            bridges: None,
         })
         .collect();
 
@@ -775,11 +795,21 @@ pub fn cut_polygon(
             }
         })
         .collect();
+    let kept = kept_small
+        .into_iter()
+        .map(|(_, area, centroid)| Merge {
+            into: index.locate(centroid),
+            area,
+            centroid,
+            bridges: None,
+        })
+        .collect();
     Ok(Cut {
         pieces,
         cracks,
         merged,
         enclosed,
+        kept,
     })
 }
 
@@ -987,22 +1017,38 @@ fn remove_islands(
     Ok((out, islands))
 }
 
+/// What [`merge_small`] returns: (root face merged into, area, centroid) per merge, the
+/// root of every face, and (root face, area, centroid) of each small piece kept.
+/// A merge: (root face merged into, area, centroid, the trace it bridges if any).
+type MergeNote = (u32, f64, Vec2, Option<u32>);
+type Merged = (Vec<MergeNote>, Vec<u32>, Vec<(u32, f64, Vec2)>);
+
 /// Merge pieces smaller than `min` (module doc, step 8): marks the edges between merged
 /// pieces dead and returns (root face of the piece merged into, area, centroid) per merge,
-/// and the root of every face.
+/// the root of every face, and the small pieces kept because no merge was safe.
 fn merge_small(
     pos: &[Vec2],
     edges: &mut [Edge],
     fcs: &[Vec<u32>],
     face_of: &[u32],
     min: f64,
-) -> (Vec<(u32, f64, Vec2)>, Vec<u32>) {
+) -> Merged {
     let nf = fcs.len();
+    // alive trace edges at each vertex
+    let mut at_vertex: HashMap<u32, Vec<u32>> = HashMap::new();
+    for (e, ed) in edges.iter().enumerate() {
+        if ed.alive && matches!(ed.kind, Kind::Trace(_)) {
+            at_vertex.entry(ed.v[0]).or_default().push(e as u32);
+            at_vertex.entry(ed.v[1]).or_default().push(e as u32);
+        }
+    }
+    let mut kept = Vec::new();
+    let mut bridging: Vec<(usize, u32)> = Vec::new();
     let polys: Vec<Vec<Vec2>> = fcs.iter().map(|f| face_polygon(pos, edges, f)).collect();
     let mut area: Vec<f64> = polys.iter().map(|p| signed_area(p)).collect();
     let piece: Vec<bool> = area.iter().map(|&a| a > 0.0).collect();
     if piece.iter().filter(|&&p| p).count() < 2 {
-        return (Vec::new(), (0..nf as u32).collect());
+        return (Vec::new(), (0..nf as u32).collect(), Vec::new());
     }
     let mut moment: Vec<Vec2> = polys
         .iter()
@@ -1050,10 +1096,24 @@ fn merge_small(
                 }
             }
         }
-        let Some(&(into, _)) = shared.iter().reduce(|x, y| if y.1 > x.1 { y } else { x }) else {
+        let c = [moment[f as usize][0] / a, moment[f as usize][1] / a];
+        // the safe neighbours; those whose merge bridges no trace first
+        let mut safe: Vec<(u32, f64, Option<u32>)> = Vec::new();
+        for &(g, len) in &shared {
+            if let Some(b) = safe_merge(edges, face_of, &piece, &mut dsu, &at_vertex, f, g) {
+                safe.push((g, len, b));
+            }
+        }
+        let clean = safe.iter().any(|s| s.2.is_none());
+        safe.retain(|s| s.2.is_none() == clean);
+        let Some(&(into, _, bridges)) = safe.iter().reduce(|x, y| if y.1 > x.1 { y } else { x })
+        else {
+            kept.push((f, a, c));
             continue;
         };
-        let c = [moment[f as usize][0] / a, moment[f as usize][1] / a];
+        if let Some(t) = bridges {
+            bridging.push((out.len(), t));
+        }
         out.push((into, a, c));
         // union: `into` stays the root
         dsu.0[f as usize] = into;
@@ -1078,12 +1138,90 @@ fn merge_small(
         }
     }
     // report the piece each merge ended in
+    let mut bridge_of: Vec<Option<u32>> = vec![None; out.len()];
+    for (k, t) in bridging {
+        bridge_of[k] = Some(t);
+    }
     let out = out
         .into_iter()
-        .map(|(into, a, c)| (dsu.find(into), a, c))
+        .zip(bridge_of)
+        .map(|((into, a, c), b)| (dsu.find(into), a, c, b))
         .collect();
     let root_of = (0..nf as u32).map(|f| dsu.find(f)).collect();
-    (out, root_of)
+    (out, root_of, kept)
+}
+
+/// Whether merging the pieces with roots `f` and `g` keeps every joint face (module doc,
+/// step 8): for each trace of the edges they share, the trace must not go on as a face
+/// past both ends of the shared run, nor past either end as a face of `f` or `g` (`None`:
+/// not safe). `Some(Some(trace))`: safe, but that trace goes on past one end as a face of
+/// other pieces (the merge bridges it there); `Some(None)`: no shared trace goes on.
+fn safe_merge(
+    edges: &[Edge],
+    face_of: &[u32],
+    piece: &[bool],
+    dsu: &mut Dsu,
+    at_vertex: &HashMap<u32, Vec<u32>>,
+    f: u32,
+    g: u32,
+) -> Option<Option<u32>> {
+    // (root of one side, root of the other) of an alive trace edge between two pieces
+    let sides = |e: u32, dsu: &mut Dsu| -> Option<(u32, u32)> {
+        let (a, b) = (face_of[2 * e as usize], face_of[2 * e as usize + 1]);
+        if !(piece[a as usize] && piece[b as usize]) {
+            return None;
+        }
+        let (ra, rb) = (dsu.find(a), dsu.find(b));
+        (ra != rb).then_some((ra, rb))
+    };
+    // the shared edges, by trace; the degree of each vertex among them
+    let mut shared: HashMap<u32, HashMap<u32, u32>> = HashMap::new();
+    let mut is_shared: Vec<u32> = Vec::new();
+    for (e, ed) in edges.iter().enumerate() {
+        let Kind::Trace(t) = ed.kind else { continue };
+        if !ed.alive {
+            continue;
+        }
+        if let Some((ra, rb)) = sides(e as u32, dsu) {
+            if (ra == f && rb == g) || (ra == g && rb == f) {
+                is_shared.push(e as u32);
+                let deg = shared.entry(t).or_default();
+                *deg.entry(ed.v[0]).or_default() += 1;
+                *deg.entry(ed.v[1]).or_default() += 1;
+            }
+        }
+    }
+    let mut bridged = None;
+    for (t, deg) in shared {
+        let mut beyond = 0;
+        for (&v, &d) in &deg {
+            if d != 1 {
+                continue; // inside the shared run
+            }
+            let mut goes_on = false;
+            let mut own_face = false;
+            for &e in at_vertex.get(&v).into_iter().flatten() {
+                if is_shared.contains(&e) || edges[e as usize].kind != Kind::Trace(t) {
+                    continue;
+                }
+                if let Some((ra, rb)) = sides(e, dsu) {
+                    goes_on = true;
+                    own_face |= [ra, rb].iter().any(|&r| r == f || r == g);
+                }
+            }
+            if own_face {
+                return None;
+            }
+            beyond += usize::from(goes_on);
+        }
+        if beyond >= 2 {
+            return None;
+        }
+        if beyond == 1 {
+            bridged = Some(t);
+        }
+    }
+    Some(bridged)
 }
 
 /// A total order on f64 for the heap (areas are finite).
@@ -1304,5 +1442,53 @@ mod tests {
             (signed_area(&into.vertices) - 1.05).abs() < 1e-12
                 || (signed_area(&into.vertices) - 1.0).abs() < 1e-12
         );
+    }
+
+    #[test]
+    fn a_small_piece_is_not_hooked_across_a_joint_that_goes_on() {
+        // a thin bed (bedding y = 0.2) with a cross joint at x = 1 ending on the bedding, a
+        // thick bed above with a cross joint at x = 2: the sliver [0, 1] × [0, 0.2] shares
+        // 1 m of bedding with the block above and 0.2 m of cross joint with the block
+        // behind it. Merging across the longest face would hook the block above into the
+        // lower bed (the bedding goes on past the sliver as that block's own face): it joins
+        // the block behind it, [1, 3] × [0, 0.2], in its own bed.
+        let p = rect(0.0, 0.0, 3.0, 2.0);
+        let t = [
+            line([-1.0, 0.2], [4.0, 0.2], 0),
+            line([1.0, 0.0], [1.0, 0.2], 1),
+            line([2.0, 0.2], [2.0, 2.0], 1),
+        ];
+        let c = cut_polygon(&p, &t, 1e-9, Some(0.3)).unwrap();
+        assert_eq!(c.merged.len(), 1);
+        assert!(c.kept.is_empty());
+        let into = &c.pieces[c.merged[0].into];
+        assert!(
+            (signed_area(&into.vertices) - 0.6).abs() < 1e-12,
+            "{into:?}"
+        );
+        assert!(
+            into.vertices.iter().all(|v| v[1] <= 0.2 + 1e-12),
+            "{into:?}"
+        );
+        assert_eq!(c.merged[0].bridges, None);
+    }
+
+    #[test]
+    fn a_small_piece_between_joints_that_go_on_everywhere_is_kept() {
+        // a 0.1 × 0.1 piece at the crossing of two persistent strips: every face's joint
+        // goes on past both of its ends, so no merge is safe
+        let p = rect(0.0, 0.0, 3.0, 3.0);
+        let t = [
+            line([1.45, -1.0], [1.45, 4.0], 0),
+            line([1.55, -1.0], [1.55, 4.0], 0),
+            line([-1.0, 1.45], [4.0, 1.45], 1),
+            line([-1.0, 1.55], [4.0, 1.55], 1),
+        ];
+        let c = cut_polygon(&p, &t, 1e-9, Some(0.05)).unwrap();
+        assert_eq!(c.pieces.len(), 9);
+        assert!(c.merged.is_empty(), "{:?}", c.merged);
+        assert_eq!(c.kept.len(), 1);
+        assert!((c.kept[0].area - 0.01).abs() < 1e-12);
+        assert!((c.kept[0].centroid[0] - 1.5).abs() < 1e-12);
     }
 }

@@ -65,6 +65,7 @@ pub(crate) struct Cutting {
     pub cracks: Vec<Crack>,
     pub merged: Vec<MergedPiece>,
     pub enclosed: Vec<MergedPiece>,
+    pub kept_small: Vec<MergedPiece>,
 }
 
 fn place(kind: &str, name: &str) -> String {
@@ -402,6 +403,7 @@ pub(crate) fn cut(
         cracks: Vec::new(),
         merged: Vec::new(),
         enclosed: Vec::new(),
+        kept_small: Vec::new(),
     };
     let mut traces = Vec::new();
     for (bi, block) in blocks.into_iter().enumerate() {
@@ -490,9 +492,11 @@ pub(crate) fn cut(
             block: first + m.into,
             area: m.area,
             centroid: m.centroid,
+            bridges: m.bridges,
         };
         out.merged.extend(c.merged.into_iter().map(note));
         out.enclosed.extend(c.enclosed.into_iter().map(note));
+        out.kept_small.extend(c.kept.into_iter().map(note));
         if out.blocks.len() > max_blocks {
             return Err(error(format!(
                 "[cover]: key `max_blocks`: the joints cut the blocks into more than {max_blocks} blocks (raise `max_blocks`, or use larger spacings){}",

@@ -68,6 +68,29 @@ impl<'a> Doc<'a> {
         self.line_at(span.start)
     }
 
+    /// 1-based line of `top.sub.key` (a table inside a single top-level table, such as
+    /// `[base_motion.x]` or `x = { … }` in `[base_motion]`), or of `sub` itself when
+    /// `key` is `None`.
+    pub fn line_sub(&self, top: &str, sub: &str, key: Option<&str>) -> Option<usize> {
+        let doc = self.spans.as_ref()?;
+        let parent = doc.as_table().get(top)?.as_table_like()?;
+        let span = match key {
+            Some(k) => parent.get(sub)?.as_table_like()?.key(k)?.span(),
+            None => parent.key(sub)?.span(),
+        }?;
+        self.line_at(span.start)
+    }
+
+    /// ` (FILE, line N)` of `top.sub.key` (see [`Doc::line_sub`]), falling back to the
+    /// line of `sub`, then of `top`; or nothing.
+    pub fn at_sub(&self, top: &str, sub: &str, key: Option<&str>) -> String {
+        let line = self
+            .line_sub(top, sub, key)
+            .or_else(|| self.line_sub(top, sub, None))
+            .or_else(|| self.top_line(top));
+        self.suffix(line)
+    }
+
     /// 1-based line of a byte offset into the text.
     fn line_at(&self, offset: usize) -> Option<usize> {
         Some(self.text.get(..offset)?.matches('\n').count() + 1)
@@ -131,5 +154,20 @@ mod tests {
         assert_eq!(d.at("cover", None, None), "");
         assert_eq!(d.top_line("block"), Some(2));
         assert_eq!(d.top_line("analysis"), Some(4));
+    }
+
+    #[test]
+    fn lines_of_sub_tables() {
+        let text = "[base_motion]\nstart = 1.0\nx = { file = \"a.AT2\", pga = 0.3 }\n\n[base_motion.y]\nfile = \"b.AT2\"\nscale = 2.0\n";
+        let root: Table = toml::from_str(text).unwrap();
+        let d = Doc::new(&root, "m.toml", text);
+        assert_eq!(d.line_sub("base_motion", "x", Some("pga")), Some(3));
+        assert_eq!(d.line_sub("base_motion", "x", None), Some(3));
+        assert_eq!(d.line_sub("base_motion", "y", Some("scale")), Some(7));
+        assert_eq!(d.line_sub("base_motion", "y", None), Some(5));
+        assert_eq!(
+            d.at_sub("base_motion", "y", Some("nope")),
+            " (m.toml, line 5)"
+        );
     }
 }

@@ -146,6 +146,8 @@ pub(crate) struct Fields<'a> {
     table: &'a Table,
     /// Where the table is written: (document, top-level key, index in its array).
     at: Option<(&'a super::lines::Doc<'a>, &'static str, Option<usize>)>,
+    /// A table inside the top-level table (`[base_motion.x]`): its key there.
+    sub: Option<&'static str>,
 }
 
 impl<'a> Fields<'a> {
@@ -154,7 +156,14 @@ impl<'a> Fields<'a> {
             place: place.into(),
             table,
             at: None,
+            sub: None,
         }
+    }
+
+    /// This is the table `sub` inside the located top-level table.
+    pub fn within(mut self, sub: &'static str) -> Self {
+        self.sub = Some(sub);
+        self
     }
 
     /// Errors about this table will name its line in `doc`.
@@ -170,9 +179,10 @@ impl<'a> Fields<'a> {
 
     /// ` (FILE, line N)` of `key` (or of the table's header), or nothing.
     fn line(&self, key: Option<&str>) -> String {
-        match self.at {
-            Some((doc, top, index)) => doc.at(top, index, key),
-            None => String::new(),
+        match (self.at, self.sub) {
+            (Some((doc, top, _)), Some(sub)) => doc.at_sub(top, sub, key),
+            (Some((doc, top, index)), None) => doc.at(top, index, key),
+            (None, _) => String::new(),
         }
     }
 

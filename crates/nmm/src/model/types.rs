@@ -161,6 +161,9 @@ pub struct MergedPiece {
     pub block: usize,
     pub area: f64,
     pub centroid: Vec2,
+    /// For a merge: the joint (index into `Model::joints`) it bridges — a joint face it
+    /// crossed goes on past it as a face of other blocks —, if any.
+    pub bridges: Option<usize>,
 }
 
 /// Which contacts an interface applies to.
@@ -265,31 +268,72 @@ pub struct Constraint {
     pub uy: Option<TimeFunction>,
 }
 
-/// Base acceleration samples `(t, ax, ay)` (m/s², already scaled), strictly increasing t.
+/// The base acceleration: per axis (x, y), samples `(t, a)` in m/s² as applied (window,
+/// `scale` or `pga`), t from the motion's t = 0, strictly increasing; an empty axis has
+/// no motion. Each axis is linear between its samples and zero outside them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BaseMotion {
-    pub samples: Vec<[f64; 3]>,
+    pub axes: [Vec<[f64; 2]>; 2],
+    /// What each record was as read and as applied (`nmm check`).
+    pub records: Vec<RecordInfo>,
+}
+
+/// One base-motion record as read and as applied.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordInfo {
+    /// The axes it drives: "x", "y" or "x, y".
+    pub axis: String,
+    /// The file as written in the model, or "table".
+    pub source: String,
+    /// Samples as read.
+    pub samples: usize,
+    /// Smallest and largest interval between samples as read, s.
+    pub dt: (f64, f64),
+    /// Times of the first and last sample as read, s.
+    pub span: (f64, f64),
+    /// Peak |a| as read (the record's own units converted, before `scale`/`pga`), m/s²,
+    /// per axis [x, y].
+    pub pga_read: [f64; 2],
+    /// The window used: from `start` (the motion's t = 0), `duration` long, s.
+    pub start: f64,
+    pub duration: f64,
+    /// The factor applied (`scale`, or the one `pga` asks for).
+    pub scale: f64,
+    /// Peak |a| of the part used, as applied, m/s², per axis [x, y].
+    pub pga_applied: [f64; 2],
 }
 
 impl BaseMotion {
-    /// Base acceleration at time t: linear between samples, zero outside the record.
-    pub fn accel(&self, t: f64) -> Vec2 {
-        let s = &self.samples;
-        if s.is_empty() || t < s[0][0] || t > s[s.len() - 1][0] {
-            return [0.0, 0.0];
+    /// A motion from samples `(t, ax, ay)` driving both axes (no record information).
+    pub fn from_samples(samples: &[[f64; 3]]) -> BaseMotion {
+        BaseMotion {
+            axes: [
+                samples.iter().map(|s| [s[0], s[1]]).collect(),
+                samples.iter().map(|s| [s[0], s[2]]).collect(),
+            ],
+            records: Vec::new(),
         }
-        let i = s.partition_point(|r| r[0] <= t);
-        if i == 0 {
-            return [s[0][1], s[0][2]];
-        }
-        if i >= s.len() {
-            let l = s[s.len() - 1];
-            return [l[1], l[2]];
-        }
-        let (a, b) = (s[i - 1], s[i]);
-        let f = (t - a[0]) / (b[0] - a[0]);
-        [a[1] + f * (b[1] - a[1]), a[2] + f * (b[2] - a[2])]
     }
+
+    /// Base acceleration at time t: per axis linear between samples, zero outside them.
+    pub fn accel(&self, t: f64) -> Vec2 {
+        [axis_at(&self.axes[0], t), axis_at(&self.axes[1], t)]
+    }
+}
+
+fn axis_at(s: &[[f64; 2]], t: f64) -> f64 {
+    if s.is_empty() || t < s[0][0] || t > s[s.len() - 1][0] {
+        return 0.0;
+    }
+    let i = s.partition_point(|r| r[0] <= t);
+    if i == 0 {
+        return s[0][1];
+    }
+    if i >= s.len() {
+        return s[s.len() - 1][1];
+    }
+    let (a, b) = (s[i - 1], s[i]);
+    a[1] + (t - a[0]) / (b[0] - a[0]) * (b[1] - a[1])
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -302,6 +346,9 @@ pub enum MonitorKind {
         first: Vec<usize>,
         second: Vec<usize>,
     },
+    /// A block (or every piece of a cut block): the displacement of its centroid and its
+    /// mean rotation.
+    Block { blocks: Vec<usize> },
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -334,6 +381,9 @@ pub struct Model {
     /// Regions enclosed by loops of traces that reach no block boundary: they stay part
     /// of the block around them (a block cannot have a hole); their loops are cracks.
     pub enclosed: Vec<MergedPiece>,
+    /// Pieces smaller than `[cover] min_block_area` kept as they are because every merge
+    /// would have bridged a joint (`block` is the piece itself).
+    pub kept_small: Vec<MergedPiece>,
     /// `[cover] min_block_area` (m²), if given.
     pub min_block_area: Option<f64>,
     /// `[[stage]]` tables in file order (empty: the model is one stage, `analysis`).

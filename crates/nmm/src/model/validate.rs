@@ -136,6 +136,7 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
         cracks: cutting.cracks,
         merged: cutting.merged,
         enclosed: cutting.enclosed,
+        kept_small: cutting.kept_small,
         min_block_area: cov.min_block_area,
         stages,
     })
@@ -1063,25 +1064,122 @@ fn constraints(root: &Doc, blocks: &[Block], names: &Names, tol: f64) -> R<Vec<C
     Ok(out)
 }
 
+/// The keys of one record: in `[base_motion]` itself, or in its `x` / `y` tables.
+const RECORD_KEYS: &[&str] = &[
+    "table", "file", "format", "scale", "pga", "start", "duration",
+];
+
 fn base_motion(root: &Doc, base_dir: &Path) -> R<Option<BaseMotion>> {
     let Some(t) = table(root, "base_motion")? else {
         return Ok(None);
     };
     let f = root.fields("[base_motion]", t, "base_motion", None);
-    f.deny_unknown(&["table", "file", "format", "component", "scale"])?;
-    let component = choice(&f, "component", &["x", "y"], "x")?;
-    let scale = f.opt("scale", number)?.unwrap_or(1.0);
-    let (key, raw) = match (f.has("table"), f.has("file")) {
+    let window = (
+        f.opt("start", number)?.unwrap_or(0.0),
+        f.opt("duration", number)?,
+    );
+    check_window(&f, window)?;
+    let mut axes: [Vec<[f64; 2]>; 2] = [Vec::new(), Vec::new()];
+    let mut records = Vec::new();
+    if !(f.has("x") || f.has("y")) {
+        let mut allowed = RECORD_KEYS.to_vec();
+        allowed.push("component");
+        f.deny_unknown(&allowed)?;
+        let component = choice(&f, "component", &["x", "y"], "x")?;
+        let (samples, info) = record(&f, base_dir, component, window, false)?;
+        for (k, axis) in ["x", "y"].into_iter().enumerate() {
+            if info.axis.contains(axis) {
+                axes[k] = samples.iter().map(|s| [s[0], s[k + 1]]).collect();
+            }
+        }
+        records.push(info);
+    } else {
+        if let Some(k) = t
+            .keys()
+            .find(|k| !["x", "y", "start", "duration"].contains(&k.as_str()))
+        {
+            return Err(f.err(
+                k,
+                "with `x` / `y` component records, give each record's keys in its own table \
+                 (x = { file = \"…\", pga = 0.3 }); only `start` and `duration` may be shared",
+            ));
+        }
+        for (k, axis) in [(0usize, "x"), (1, "y")] {
+            let Some(v) = t.get(axis) else { continue };
+            let toml::Value::Table(sub) = v else {
+                return Err(f.err(
+                    axis,
+                    format!(
+                        "must be a table such as {{ file = \"record.AT2\", pga = 0.3 }}, got {}",
+                        describe(v)
+                    ),
+                ));
+            };
+            let g = root
+                .fields(format!("[base_motion.{axis}]"), sub, "base_motion", None)
+                .within(axis);
+            g.deny_unknown(RECORD_KEYS)?;
+            let own = (
+                g.opt("start", number)?.unwrap_or(window.0),
+                g.opt("duration", number)?.or(window.1),
+            );
+            check_window(&g, own)?;
+            let (samples, info) = record(&g, base_dir, axis, own, true)?;
+            axes[k] = samples.iter().map(|s| [s[0], s[k + 1]]).collect();
+            records.push(info);
+        }
+    }
+    Ok(Some(BaseMotion { axes, records }))
+}
+
+/// `start` ≥ 0 and `duration` > 0 where given.
+fn check_window(f: &Fields, (start, duration): (f64, Option<f64>)) -> R<()> {
+    if f.has("start") && !(start >= 0.0) {
+        return Err(f.err(
+            "start",
+            format!("must be at least 0 s, got {}", fmt_num(start)),
+        ));
+    }
+    if let Some(d) = duration.filter(|_| f.has("duration")) {
+        positive(f, "duration", d)?;
+    }
+    Ok(())
+}
+
+/// One record (`table` or `file`) read, windowed and scaled: its samples `(t, ax, ay)`
+/// as applied and what it was. `single`: a component record (`[base_motion.x]`), which
+/// must have one acceleration column.
+fn record(
+    f: &Fields,
+    base_dir: &Path,
+    component: &str,
+    (start, duration): (f64, Option<f64>),
+    single: bool,
+) -> R<(Vec<[f64; 3]>, RecordInfo)> {
+    let (key, source, raw, two_axes) = match (f.has("table"), f.has("file")) {
         (true, true) => return Err(f.err("file", "give either `table` or `file`, not both")),
         (false, false) => return Err(f.err("table", "missing: give either `table` or `file`")),
         (true, false) => {
             if f.has("format") {
                 return Err(f.err("format", "applies only with `file`"));
             }
-            ("table", f.req("table", |v| motion_table(v, component))?)
+            let raw = f.req("table", |v| motion_table(v, component))?;
+            let three = f.req("table", |v| {
+                Ok(array(v)?
+                    .first()
+                    .and_then(|r| r.as_array())
+                    .is_some_and(|r| r.len() == 3))
+            })?;
+            if single && three {
+                return Err(f.err(
+                    "table",
+                    format!("a component record's rows are [t, a] (it drives {component} only)"),
+                ));
+            }
+            ("table", "table".to_string(), raw, three)
         }
         (false, true) => {
-            let format = choice(&f, "format", &["csv", "peer", "knet"], "")?;
+            let format = choice(f, "format", &["csv", "peer", "knet"], "")?;
             let format = (!format.is_empty()).then_some(format);
             let file = f.req("file", string)?;
             if file.trim().is_empty() {
@@ -1096,11 +1194,61 @@ fn base_motion(root: &Doc, base_dir: &Path) -> R<Option<BaseMotion>> {
             }
             let samples = crate::motion::read_record(&path, format, component)
                 .map_err(|e| f.err("file", e))?;
-            ("file", samples)
+            let other = if component == "y" { 1 } else { 2 };
+            let two = samples.iter().any(|s| s[other] != 0.0);
+            if single && two {
+                return Err(f.err(
+                    "file",
+                    format!(
+                        "{file:?} has two acceleration columns; a component record has one (t,a)"
+                    ),
+                ));
+            }
+            ("file", file.to_string(), samples, two)
         }
     };
     check_samples(&raw).map_err(|e| f.err(key, e))?;
-    let samples: Vec<[f64; 3]> = raw
+    let axis = if two_axes {
+        "x, y".to_string()
+    } else {
+        component.to_string()
+    };
+    let pga_read = crate::motion::peaks(&raw);
+    let windowed = crate::motion::window(&raw, start, duration).map_err(|e| {
+        f.err(
+            if f.has("duration") {
+                "duration"
+            } else if f.has("start") {
+                "start"
+            } else {
+                key
+            },
+            e,
+        )
+    })?;
+    let peak_used = crate::motion::peaks(&windowed);
+    let scale = match (f.opt("scale", number)?, f.opt("pga", number)?) {
+        (Some(_), Some(_)) => return Err(f.err("pga", "give either `scale` or `pga`, not both")),
+        (Some(s), None) => s,
+        (None, Some(p)) => {
+            if !(p > 0.0) {
+                return Err(f.err(
+                    "pga",
+                    format!("must be positive (in g), got {}", fmt_num(p)),
+                ));
+            }
+            let peak = peak_used[0].max(peak_used[1]);
+            if !(peak > 0.0) {
+                return Err(f.err(
+                    "pga",
+                    "the part of the record used has no acceleration to scale (all zero)",
+                ));
+            }
+            p * crate::motion::G / peak
+        }
+        (None, None) => 1.0,
+    };
+    let samples: Vec<[f64; 3]> = windowed
         .iter()
         .map(|s| [s[0], scale * s[1], scale * s[2]])
         .collect();
@@ -1108,12 +1256,25 @@ fn base_motion(root: &Doc, base_dir: &Path) -> R<Option<BaseMotion>> {
         .iter()
         .any(|s| !(s[1].is_finite() && s[2].is_finite()))
     {
+        let k = if f.has("pga") { "pga" } else { "scale" };
         return Err(f.err(
-            "scale",
+            k,
             format!("scaled accelerations overflow (scale = {})", fmt_num(scale)),
         ));
     }
-    Ok(Some(BaseMotion { samples }))
+    let info = RecordInfo {
+        axis,
+        source,
+        samples: raw.len(),
+        dt: crate::motion::intervals(&raw),
+        span: (raw[0][0], raw[raw.len() - 1][0]),
+        pga_read,
+        start,
+        duration: samples[samples.len() - 1][0],
+        scale,
+        pga_applied: crate::motion::peaks(&samples),
+    };
+    Ok((samples, info))
 }
 
 /// Rows `[t, ax, ay]` or `[t, a]` (the latter drives `component`).
@@ -1178,19 +1339,39 @@ fn monitors(root: &Doc, blocks: &[Block], names: &Names, tol: f64) -> R<Vec<Moni
         let mut f = root.fields(format!("[[monitor]] #{}", k + 1), t, "monitor", Some(k));
         let name = f.name("name")?;
         f.set_place(format!("[[monitor]] {name:?}"));
-        f.deny_unknown(&["name", "point", "interface"])?;
+        f.deny_unknown(&["name", "point", "interface", "block"])?;
         if name.chars().any(|c| c == ',' || c == '"' || c.is_control()) {
             return Err(f.err("name", "must not contain commas, quotes or control characters (it heads history.csv columns)"));
         }
         if !seen.insert(name.clone()) {
             return Err(f.err("name", "duplicate monitor name"));
         }
+        let given = ["point", "interface", "block"]
+            .into_iter()
+            .filter(|k| f.has(k))
+            .collect::<Vec<_>>();
+        if given.len() > 1 {
+            return Err(f.err(
+                given[1],
+                "give one of `point`, `interface` and `block`, not several",
+            ));
+        }
         let kind = match (f.has("point"), f.has("interface")) {
-            (true, true) => {
-                return Err(f.err("interface", "give either `point` or `interface`, not both"))
+            _ if f.has("block") => {
+                let name = f.req("block", string)?;
+                let (set, _) = names
+                    .get(name)
+                    .ok_or_else(|| f.err("block", format!("unknown block {name:?}")))?;
+                MonitorKind::Block {
+                    blocks: set.to_vec(),
+                }
             }
+            (true, true) => unreachable!("refused above"),
             (false, false) => {
-                return Err(f.err("point", "missing: give either `point` or `interface`"))
+                return Err(f.err(
+                    "point",
+                    "missing: give one of `point`, `interface` and `block`",
+                ))
             }
             (true, false) => {
                 let p = f.req("point", point)?;

@@ -37,9 +37,42 @@ pub const PENALTY_RANGE: (f64, f64) = (1.0, 1000.0);
 /// The average unknowns per free block above which the cover is much finer than needed.
 pub const UNKNOWNS_PER_BLOCK: f64 = 2000.0;
 
+/// `x` to 4 significant digits.
+fn fmt_short(x: f64) -> String {
+    format!("{x:.4e}")
+        .parse::<f64>()
+        .map_or_else(|_| x.to_string(), |v| v.to_string())
+}
+
 /// The warnings that need only the model (see the module doc), in a fixed order.
 pub fn warnings(model: &Model) -> Vec<String> {
     let mut out = Vec::new();
+    for g in &model.merged {
+        if let Some(j) = g.bridges {
+            out.push(format!(
+                "a piece of {:.4} m² at [{}, {}] was merged into block \"{}\" across joint \"{}\", \
+                 which goes on past it as a face of other blocks: the merged block bridges that joint \
+                 (check the mechanism, or lower [cover] min_block_area)",
+                g.area,
+                fmt_short(g.centroid[0]),
+                fmt_short(g.centroid[1]),
+                model.blocks[g.block].name,
+                model.joints.get(j).map_or("?", |j| j.name.as_str())
+            ));
+        }
+    }
+    if !model.kept_small.is_empty() {
+        let g = &model.kept_small[0];
+        out.push(format!(
+            "{} piece(s) smaller than [cover] min_block_area kept unmerged, because every merge would \
+             bridge a joint that goes on past them (the first: block \"{}\", {:.4} m² at [{}, {}])",
+            model.kept_small.len(),
+            model.blocks[g.block].name,
+            g.area,
+            fmt_short(g.centroid[0]),
+            fmt_short(g.centroid[1])
+        ));
+    }
     if !model.blocks.iter().any(|b| b.fixed) && model.constraints.is_empty() {
         out.push(
             "no block is fixed and there is no [[constraint]]: nothing holds the model, \

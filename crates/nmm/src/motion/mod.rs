@@ -110,6 +110,86 @@ fn check_samples(file: &str, samples: &[[f64; 3]]) -> Result<(), String> {
     Ok(())
 }
 
+/// Standard gravity g = 9.80665 m/s² (the unit `g` of PEER records and of
+/// `[base_motion] pga`).
+pub const G: f64 = 9.80665;
+
+/// The window `[start, start + duration]` of samples `(t, ax, ay)`, shifted so that
+/// `start` becomes t = 0. Its ends are interpolated linearly where they fall inside the
+/// record; a window starting before the record's first sample keeps the record's own
+/// start (the motion is zero before it). `duration = None`: to the record's end.
+/// Errors (plain text, the caller adds the place): a start at or after the record's last
+/// sample, a window ending after it, or fewer than 2 samples left.
+pub fn window(s: &[[f64; 3]], start: f64, duration: Option<f64>) -> Result<Vec<[f64; 3]>, String> {
+    let (first, last) = match (s.first(), s.last()) {
+        (Some(a), Some(b)) => (a[0], b[0]),
+        _ => return Err("empty record".into()),
+    };
+    if start >= last {
+        return Err(format!(
+            "the window starts at {start} s, at or after the record's end at {last} s"
+        ));
+    }
+    let end = match duration {
+        Some(d) => start + d,
+        None => last,
+    };
+    // a window end within 1e-9 of the record's duration of its last sample is its end
+    if end > last + 1e-9 * (last - first).abs().max(1e-12) {
+        return Err(format!(
+            "the window ends at {end} s (start {start} s + duration {} s), after the record's end at {last} s",
+            end - start
+        ));
+    }
+    let end = end.min(last);
+    let at = |t: f64| -> [f64; 3] {
+        let i = s.partition_point(|r| r[0] <= t);
+        if i == 0 {
+            return [t, s[0][1], s[0][2]];
+        }
+        if i >= s.len() {
+            let l = s[s.len() - 1];
+            return [t, l[1], l[2]];
+        }
+        let (a, b) = (s[i - 1], s[i]);
+        let f = (t - a[0]) / (b[0] - a[0]);
+        [t, a[1] + f * (b[1] - a[1]), a[2] + f * (b[2] - a[2])]
+    };
+    let mut out = Vec::new();
+    if start > first {
+        out.push(at(start));
+    }
+    out.extend(s.iter().filter(|r| r[0] >= start && r[0] < end).copied());
+    out.push(at(end));
+    out.dedup_by(|b, a| a[0] == b[0]);
+    for r in out.iter_mut() {
+        r[0] -= start;
+    }
+    if out.len() < 2 {
+        return Err(format!(
+            "the window [{start}, {end}] s holds fewer than 2 samples"
+        ));
+    }
+    Ok(out)
+}
+
+/// Peak |a| of each axis of samples `(t, ax, ay)`, m/s² (the peak of a record linear
+/// between samples is at a sample).
+pub fn peaks(s: &[[f64; 3]]) -> [f64; 2] {
+    s.iter().fold([0.0f64; 2], |p, r| {
+        [p[0].max(r[1].abs()), p[1].max(r[2].abs())]
+    })
+}
+
+/// The smallest and largest interval between consecutive samples, s.
+pub fn intervals(s: &[[f64; 3]]) -> (f64, f64) {
+    s.windows(2)
+        .map(|w| w[1][0] - w[0][0])
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), d| {
+            (lo.min(d), hi.max(d))
+        })
+}
+
 /// `"<file>: line <n>: <msg>"`.
 pub(crate) fn err_at(file: &str, line: usize, msg: impl std::fmt::Display) -> String {
     format!("{file}: line {line}: {msg}")

@@ -22,7 +22,7 @@
 use super::{err_at, parse_number, shorten, single_component};
 
 /// Standard gravity (m/s²), the PEER unit `G`.
-pub const G: f64 = 9.80665;
+pub use super::G;
 
 /// Parse `.AT2` text (see the module doc). `file` names the file in errors.
 pub fn parse(file: &str, text: &str, component: &str) -> Result<Vec<[f64; 3]>, String> {
@@ -82,46 +82,119 @@ pub fn parse(file: &str, text: &str, component: &str) -> Result<Vec<[f64; 3]>, S
 }
 
 /// Factor to m/s² from the units line (`... ACCELERATION ... IN UNITS OF G`).
+///
+/// The unit is the phrase after `UNITS OF` (else after `UNITS`, else after the last
+/// ` IN `), read as abbreviations or in words: `G`, `GS`, `G'S`, `GRAVITY` → g;
+/// `CM/S/S`, `CM/S^2`, `CM/SEC/SEC`, `GAL`, `GALS`, `CENTIMETERS PER SECOND PER SECOND`,
+/// `CM PER SEC SQUARED`, … → 0.01; `MM/S/S`, `MILLIMETRES PER SECOND SQUARED` → 0.001;
+/// `M/S/S`, `METERS PER SECOND PER SECOND`, `METRES/SEC**2`, … → 1. Anything else (feet,
+/// a length without two time units, no unit) is refused rather than guessed.
 fn units_factor(file: &str, line_no: usize, line: &str) -> Result<f64, String> {
     let upper = line.to_ascii_uppercase();
-    let Some(pos) = upper.find("UNITS OF") else {
+    if !upper.contains("ACCEL") {
+        let msg = if upper.contains("UNITS") || upper.contains("VELOC") || upper.contains("DISPL") {
+            format!(
+                "not an acceleration record: '{}' (only acceleration .AT2 files are read)",
+                shorten(line.trim())
+            )
+        } else {
+            format!(
+                "expected the units line 'ACCELERATION TIME SERIES IN UNITS OF G', found '{}'",
+                shorten(line.trim())
+            )
+        };
+        return Err(err_at(file, line_no, msg));
+    }
+    let phrase = if let Some(p) = upper.find("UNITS OF") {
+        &upper[p + "UNITS OF".len()..]
+    } else if let Some(p) = upper.find("UNITS") {
+        upper[p + "UNITS".len()..].trim_start_matches([':', '=', ' '])
+    } else if let Some(p) = upper.rfind(" IN ") {
+        &upper[p + " IN ".len()..]
+    } else {
         return Err(err_at(
             file,
             line_no,
             format!(
-                "expected the units line 'ACCELERATION TIME SERIES IN UNITS OF G', found '{}'",
+                "no unit on the units line '{}' (expected e.g. 'IN UNITS OF G')",
                 shorten(line.trim())
             ),
         ));
     };
-    if !upper[..pos].contains("ACCEL") {
-        return Err(err_at(
-            file,
-            line_no,
-            format!(
-                "not an acceleration record: '{}' (only acceleration .AT2 files are read)",
-                shorten(line.trim())
-            ),
-        ));
+    if phrase.trim().is_empty() {
+        return Err(err_at(file, line_no, "no unit after 'UNITS OF'"));
     }
-    let unit = upper[pos + "UNITS OF".len()..]
-        .split_whitespace()
-        .next()
-        .unwrap_or("")
-        .trim_end_matches(['.', ',', ';']);
-    match unit {
-        "G" => Ok(G),
-        "CM/S/S" | "CM/S^2" | "CM/S2" | "CM/SEC/SEC" | "CM/SEC^2" | "CM/SEC2" | "GAL" => Ok(0.01),
-        "M/S/S" | "M/S^2" | "M/S2" | "M/SEC/SEC" | "M/SEC^2" | "M/SEC2" => Ok(1.0),
-        "" => Err(err_at(file, line_no, "no unit after 'UNITS OF'")),
-        other => Err(err_at(
+    match unit_phrase(phrase) {
+        Some(f) => Ok(f),
+        None => Err(err_at(
             file,
             line_no,
             format!(
-                "unknown acceleration unit '{}' (expected G, CM/S/S or M/S/S)",
-                shorten(other)
+                "unknown acceleration unit '{}' (expected G, CM/S/S, M/S/S or these in words)",
+                shorten(phrase.split_whitespace().next().unwrap_or(""))
             ),
         )),
+    }
+}
+
+/// The factor to m/s² of a unit written at the start of `phrase` (upper case), or
+/// `None` when it is not a known acceleration unit.
+fn unit_phrase(phrase: &str) -> Option<f64> {
+    // words, with the punctuation that ends a sentence or a clause taken off
+    let words: Vec<&str> = phrase
+        .split_whitespace()
+        .map(|w| w.trim_matches(|c: char| matches!(c, '.' | ',' | ';' | ':' | '(' | ')')))
+        .filter(|w| !w.is_empty())
+        .collect();
+    let first = *words.first()?;
+    match first {
+        "G" | "GS" | "G'S" | "GRAVITY" => return Some(G),
+        "GAL" | "GALS" | "GALILEO" => return Some(0.01),
+        _ => {}
+    }
+    // a length, then `/ time / time`, `PER time PER time`, `PER time SQUARED`, … : the
+    // words joined and normalised to LENGTH/S2
+    let mut joined = String::new();
+    for (k, w) in words.iter().enumerate() {
+        let piece = match *w {
+            "PER" => "/",
+            "SQUARED" | "**2" | "^2" => "^2",
+            w if k == 0 || w.starts_with('/') || w.starts_with("SEC") || w.starts_with('S') => w,
+            _ => break,
+        };
+        // a time word must follow PER or a slash
+        joined.push_str(piece);
+    }
+    let mut s = joined;
+    for (long, short) in [
+        ("CENTIMETERS", "CM"),
+        ("CENTIMETRES", "CM"),
+        ("CENTIMETER", "CM"),
+        ("CENTIMETRE", "CM"),
+        ("MILLIMETERS", "MM"),
+        ("MILLIMETRES", "MM"),
+        ("MILLIMETER", "MM"),
+        ("MILLIMETRE", "MM"),
+        ("METERS", "M"),
+        ("METRES", "M"),
+        ("METER", "M"),
+        ("METRE", "M"),
+        ("SECONDS", "S"),
+        ("SECOND", "S"),
+        ("SECS", "S"),
+        ("SEC", "S"),
+    ] {
+        s = s.replace(long, short);
+    }
+    let s = s
+        .replace("**2", "2")
+        .replace("^2", "2")
+        .replace("/S/S", "/S2");
+    match s.as_str() {
+        "CM/S2" => Some(0.01),
+        "MM/S2" => Some(0.001),
+        "M/S2" => Some(1.0),
+        _ => None,
     }
 }
 
@@ -226,6 +299,39 @@ mod tests {
             1.0
         );
         assert!(units_factor("f", 3, "ACCELERATION TIME SERIES IN UNITS OF FT/S/S").is_err());
+        // older headers: units in words
+        for (line, f) in [
+            (
+                "ACCELERATION TIME HISTORY IN UNITS OF G. FILTER POINTS: HP=0.1 Hz",
+                G,
+            ),
+            ("ACCELERATION IN G", G),
+            ("Acceleration time history, units: g", G),
+            ("ACCELERATION IN UNITS OF GRAVITY", G),
+            (
+                "ACCELERATION TIME HISTORY IN CENTIMETERS PER SECOND PER SECOND",
+                0.01,
+            ),
+            ("ACCELERATION IN UNITS OF CM/SEC**2", 0.01),
+            (
+                "ACCELERATION, UNITS OF CENTIMETRES PER SECOND SQUARED",
+                0.01,
+            ),
+            ("ACCELERATION IN UNITS OF GALS", 0.01),
+            ("ACCELERATION IN METERS PER SECOND PER SECOND", 1.0),
+            ("ACCELERATION IN UNITS OF METRES/SEC/SEC.", 1.0),
+            ("ACCELERATION IN MILLIMETRES PER SECOND SQUARED", 0.001),
+        ] {
+            assert_eq!(units_factor("f", 3, line).unwrap(), f, "{line}");
+        }
+        for line in [
+            "ACCELERATION IN FEET PER SECOND PER SECOND",
+            "ACCELERATION TIME HISTORY",
+            "ACCELERATION IN UNITS OF CENTIMETERS",
+            "ACCELERATION IN UNITS OF METERS PER SECOND",
+        ] {
+            assert!(units_factor("f", 3, line).is_err(), "{line}");
+        }
         assert!(units_factor("f", 3, "VELOCITY TIME SERIES IN UNITS OF CM/S").is_err());
     }
 }

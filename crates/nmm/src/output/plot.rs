@@ -585,3 +585,318 @@ mod tests {
         assert_eq!(tick_label(-2.2e-16, 2.0), "0");
     }
 }
+
+/// An RGB colour of a [`Scene`].
+pub type Rgb = (u8, u8, u8);
+/// A point of a [`Scene`] (data coordinates).
+pub type Pt = (f64, f64);
+/// A polyline of a [`Scene`]: points, colour, width in pixels.
+pub type SceneLine = (Vec<Pt>, Rgb, u32);
+/// An arrow of a [`Scene`]: from, to (the head), colour.
+pub type Arrow = (Pt, Pt, Rgb);
+
+/// A polygon of a [`Scene`]: filled (colour, opacity in [0, 1]) and/or outlined (colour,
+/// width in pixels).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScenePolygon {
+    pub points: Vec<(f64, f64)>,
+    pub fill: Option<(Rgb, f64)>,
+    pub outline: Option<(Rgb, u32)>,
+}
+
+/// The shape of a [`SceneMarker`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MarkerShape {
+    Circle,
+    Square,
+    Triangle,
+}
+
+/// A marker at a point of a [`Scene`]: shape, colour, size in pixels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneMarker {
+    pub at: (f64, f64),
+    pub shape: MarkerShape,
+    pub colour: Rgb,
+    pub size: u32,
+}
+
+/// A map in true proportions with everything a picture of blocks needs: polygons, polylines,
+/// markers, arrows, text labels, a legend and, optionally, a colour bar. Drawn by
+/// [`plot_scene`]. Generic: the caller decides what each element stands for.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Scene {
+    pub title: String,
+    pub polygons: Vec<ScenePolygon>,
+    /// Polylines: points, colour, width in pixels.
+    pub lines: Vec<SceneLine>,
+    pub markers: Vec<SceneMarker>,
+    /// Arrows from → to (data coordinates), colour.
+    pub arrows: Vec<Arrow>,
+    /// Text at a point (data coordinates), size in pixels.
+    pub labels: Vec<((f64, f64), String, u32)>,
+    /// Legend entries: text and colour, in order.
+    pub legend: Vec<(String, Rgb)>,
+    /// Colour bar: the range of values mapped by [`colour_map`] and its label (with unit).
+    pub colour_bar: Option<(f64, f64, String)>,
+}
+
+/// A perceptually ordered colour map (viridis, by 9 stops, linear in between) of `t` in
+/// [0, 1] (clamped; NaN is grey).
+pub fn colour_map(t: f64) -> Rgb {
+    const STOPS: [Rgb; 9] = [
+        (68, 1, 84),
+        (71, 44, 122),
+        (59, 81, 139),
+        (44, 113, 142),
+        (33, 144, 141),
+        (39, 173, 129),
+        (92, 200, 99),
+        (170, 220, 50),
+        (253, 231, 37),
+    ];
+    if t.is_nan() {
+        return (160, 160, 160);
+    }
+    let x = t.clamp(0.0, 1.0) * (STOPS.len() - 1) as f64;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let f = x - i as f64;
+    let mix = |a: u8, b: u8| (a as f64 + f * (b as f64 - a as f64)).round() as u8;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    (mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// Draws `scene` into `path`, PNG or SVG by its extension (`.png`, `.svg`, any case),
+/// `width` pixels wide, the height from the data's aspect ratio (within the size limits).
+/// The legend and the colour bar take a column on the right.
+pub fn plot_scene(path: &Path, scene: &Scene, width: u32) -> Result<(), PlotError> {
+    if !(MIN_SIZE..=MAX_SIZE).contains(&width) {
+        return Err(PlotError::InvalidSize {
+            width,
+            height: 0,
+            panels: 1,
+        });
+    }
+    let pts = || {
+        scene
+            .polygons
+            .iter()
+            .flat_map(|p| p.points.iter().copied())
+            .chain(scene.lines.iter().flat_map(|l| l.0.iter().copied()))
+            .chain(scene.markers.iter().map(|m| m.at))
+            .chain(scene.arrows.iter().flat_map(|a| [a.0, a.1]))
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+    };
+    let xr = padded_range(pts().map(|p| p.0), 0.04);
+    let yr = padded_range(pts().map(|p| p.1), 0.04);
+    let side = if scene.colour_bar.is_some() || !scene.legend.is_empty() {
+        190u32
+    } else {
+        0
+    };
+    let (label_x, label_y, top) = (40u32, 70u32, 45u32);
+    let plot_w = width.saturating_sub(label_y + 20 + side).max(50) as f64;
+    let ratio = (yr.end - yr.start) / (xr.end - xr.start);
+    let height = ((plot_w * ratio) as u32 + label_x + top).clamp(MIN_SIZE.max(360), MAX_SIZE);
+    ensure_font()?;
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
+    let fail = |message: String| PlotError::Draw {
+        path: path.to_path_buf(),
+        message,
+    };
+    match ext.as_deref() {
+        Some("png") => {
+            let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
+            draw_scene(&root, scene, (&xr, &yr), (label_x, label_y), side)
+                .map_err(|e| fail(e.to_string()))
+        }
+        Some("svg") => {
+            let root = SVGBackend::new(path, (width, height)).into_drawing_area();
+            draw_scene(&root, scene, (&xr, &yr), (label_x, label_y), side)
+                .map_err(|e| fail(e.to_string()))
+        }
+        _ => Err(fail("the file name must end in .png or .svg".into())),
+    }
+}
+
+fn rgb(c: Rgb) -> RGBColor {
+    RGBColor(c.0, c.1, c.2)
+}
+
+fn draw_scene<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    scene: &Scene,
+    (xr, yr): (&Range<f64>, &Range<f64>),
+    (label_x, label_y): (u32, u32),
+    side: u32,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    root.fill(&WHITE)?;
+    let (w, h) = root.dim_in_pixel();
+    let (main, right) = root.split_horizontally(w - side);
+    let (xs, ys) = (xr.end - xr.start, yr.end - yr.start);
+    let mut chart = ChartBuilder::on(&main)
+        .caption(&scene.title, ("sans-serif", 17))
+        .margin(10)
+        .x_label_area_size(label_x)
+        .y_label_area_size(label_y)
+        .build_cartesian_2d(xr.clone(), yr.clone())?;
+    let x_fmt = |v: &f64| tick_label(*v, xs);
+    let y_fmt = |v: &f64| tick_label(*v, ys);
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("x (m)")
+        .y_desc("y (m)")
+        .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 15))
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
+        .draw()?;
+    for p in &scene.polygons {
+        if let Some((c, alpha)) = p.fill {
+            chart.draw_series(std::iter::once(Polygon::new(
+                p.points.clone(),
+                rgb(c).mix(alpha).filled(),
+            )))?;
+        }
+    }
+    for p in &scene.polygons {
+        if let Some((c, width)) = p.outline {
+            let mut ring = p.points.clone();
+            if let Some(&first) = ring.first() {
+                ring.push(first);
+            }
+            chart.draw_series(std::iter::once(PathElement::new(
+                ring,
+                rgb(c).stroke_width(width),
+            )))?;
+        }
+    }
+    for (points, c, width) in &scene.lines {
+        chart.draw_series(std::iter::once(PathElement::new(
+            points.clone(),
+            rgb(*c).stroke_width(*width),
+        )))?;
+    }
+    // arrow heads 12 px long, in data units of the x axis (true proportions)
+    let px = chart.plotting_area().dim_in_pixel().0.max(1) as f64;
+    let head = 12.0 * xs / px;
+    for &(a, b, c) in &scene.arrows {
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let l = (dx * dx + dy * dy).sqrt();
+        if l.is_nan() || l <= 0.0 {
+            continue;
+        }
+        let (ux, uy) = (dx / l, dy / l);
+        let hl = head.min(0.5 * l);
+        let p1 = (b.0 - hl * ux + 0.4 * hl * uy, b.1 - hl * uy - 0.4 * hl * ux);
+        let p2 = (b.0 - hl * ux - 0.4 * hl * uy, b.1 - hl * uy + 0.4 * hl * ux);
+        chart.draw_series(std::iter::once(PathElement::new(
+            vec![a, b],
+            rgb(c).stroke_width(2),
+        )))?;
+        chart.draw_series(std::iter::once(Polygon::new(
+            vec![b, p1, p2],
+            rgb(c).filled(),
+        )))?;
+    }
+    for m in &scene.markers {
+        let c = rgb(m.colour);
+        let s = m.size as i32;
+        match m.shape {
+            MarkerShape::Circle => {
+                chart.draw_series(std::iter::once(Circle::new(m.at, s, c.filled())))?;
+                chart.draw_series(std::iter::once(Circle::new(m.at, s, BLACK.stroke_width(1))))?;
+            }
+            MarkerShape::Square => {
+                chart.draw_series(std::iter::once(
+                    EmptyElement::at(m.at) + Rectangle::new([(-s, -s), (s, s)], c.filled()),
+                ))?;
+            }
+            MarkerShape::Triangle => {
+                chart.draw_series(std::iter::once(TriangleMarker::new(m.at, s, c.filled())))?;
+            }
+        }
+    }
+    for (at, text, size) in &scene.labels {
+        let style = TextStyle::from(("sans-serif", *size as i32).into_font()).pos(
+            plotters::style::text_anchor::Pos::new(
+                plotters::style::text_anchor::HPos::Center,
+                plotters::style::text_anchor::VPos::Center,
+            ),
+        );
+        chart.draw_series(std::iter::once(Text::new(text.clone(), *at, style)))?;
+    }
+    // the right-hand column: colour bar, then legend
+    let mut y0 = 50i32;
+    if let Some((lo, hi, label)) = &scene.colour_bar {
+        right.draw(&Text::new(
+            label.clone(),
+            (10, y0 - 20),
+            ("sans-serif", 14).into_font(),
+        ))?;
+        let bar_h = (h as i32 / 2).clamp(120, 420);
+        let n = 64;
+        for k in 0..n {
+            let t = 1.0 - (k as f64 + 0.5) / n as f64;
+            let ya = y0 + bar_h * k / n;
+            let yb = y0 + bar_h * (k + 1) / n;
+            right.draw(&Rectangle::new(
+                [(10, ya), (34, yb)],
+                rgb(colour_map(t)).filled(),
+            ))?;
+        }
+        right.draw(&Rectangle::new(
+            [(10, y0), (34, y0 + bar_h)],
+            BLACK.stroke_width(1),
+        ))?;
+        let span = hi - lo;
+        for k in 0..=4 {
+            let v = hi - span * k as f64 / 4.0;
+            let y = y0 + bar_h * k / 4;
+            right.draw(&PathElement::new(
+                vec![(34, y), (40, y)],
+                BLACK.stroke_width(1),
+            ))?;
+            right.draw(&Text::new(
+                bar_label(v, span.abs().max(hi.abs()).max(lo.abs())),
+                (44, y - 7),
+                ("sans-serif", 13).into_font(),
+            ))?;
+        }
+        y0 += bar_h + 30;
+    }
+    for (text, c) in &scene.legend {
+        right.draw(&Rectangle::new([(10, y0), (30, y0 + 12)], rgb(*c).filled()))?;
+        right.draw(&Text::new(
+            text.clone(),
+            (36, y0 - 1),
+            ("sans-serif", 13).into_font(),
+        ))?;
+        y0 += 20;
+    }
+    root.present()
+}
+
+/// A colour-bar tick label: 4 significant digits, exponent form for very large or small
+/// magnitudes (`scale`: the bar's largest magnitude).
+fn bar_label(v: f64, scale: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    if !(1e-2..1e5).contains(&scale) {
+        format!("{v:.3e}")
+    } else {
+        // 4 significant digits of the bar's largest magnitude
+        let decimals = (3 - scale.log10().floor() as i32).max(0) as usize;
+        let s = format!("{v:.decimals$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    }
+}

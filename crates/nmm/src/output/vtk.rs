@@ -712,3 +712,156 @@ impl PvdWriter {
         std::fs::rename(&tmp, &self.path)
     }
 }
+
+/// A `.vtu` file as this module writes it, read back: points (x, y), cells (point indices),
+/// and every point, cell and field array by name.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ReadGrid {
+    pub points: Vec<[f64; 2]>,
+    pub cells: Vec<Vec<usize>>,
+    /// name → (components, values tuple after tuple).
+    pub point_data: std::collections::HashMap<String, (usize, Vec<f64>)>,
+    pub cell_data: std::collections::HashMap<String, (usize, Vec<f64>)>,
+    /// Field-data string arrays (e.g. `block_names`).
+    pub field_strings: std::collections::HashMap<String, Vec<String>>,
+}
+
+/// The value of `name="…"` in an XML start tag (unescaped).
+fn attribute(tag: &str, name: &str) -> Option<String> {
+    let key = format!(" {name}=\"");
+    let p = tag.find(&key)? + key.len();
+    let end = tag[p..].find('"')? + p;
+    Some(
+        tag[p..end]
+            .replace("&quot;", "\"")
+            .replace("&apos;", "'")
+            .replace("&lt;", "<")
+            .replace("&gt;", ">")
+            .replace("&amp;", "&"),
+    )
+}
+
+/// Reads a `.vtu` written by [`write_vtu`] (binary or ASCII; the layout this module writes,
+/// not every VTK file). Errors are one line naming the file.
+pub fn read_vtu(path: &Path) -> Result<ReadGrid, String> {
+    let file = path.display();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    let bad = |what: &str| format!("{file}: not a .vtu written by nmm ({what})");
+    if !text.contains("type=\"UnstructuredGrid\"") {
+        return Err(bad("no UnstructuredGrid"));
+    }
+    let mut g = ReadGrid::default();
+    let mut rest = text.as_str();
+    let mut section = "";
+    let (mut conn, mut offsets): (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
+    while let Some(p) = rest.find('<') {
+        rest = &rest[p..];
+        let end = rest.find('>').ok_or_else(|| bad("an unterminated tag"))?;
+        let tag = &rest[..=end];
+        rest = &rest[end + 1..];
+        for s in ["FieldData", "PointData", "CellData", "Points", "Cells"] {
+            if tag.starts_with(&format!("<{s}>")) || tag.starts_with(&format!("<{s} ")) {
+                section = s;
+            }
+        }
+        if !tag.starts_with("<DataArray") {
+            continue;
+        }
+        let close = rest
+            .find("</DataArray>")
+            .ok_or_else(|| bad("an unterminated DataArray"))?;
+        let body = rest[..close].trim();
+        rest = &rest[close..];
+        let name = attribute(tag, "Name").unwrap_or_default();
+        let ty = attribute(tag, "type").unwrap_or_default();
+        let comps: usize = attribute(tag, "NumberOfComponents")
+            .and_then(|c| c.parse().ok())
+            .unwrap_or(1);
+        let values: Vec<f64> = if attribute(tag, "format").as_deref() == Some("ascii") {
+            body.split_whitespace()
+                .map(|t| t.parse::<f64>().map_err(|_| bad("a number")))
+                .collect::<Result<_, _>>()?
+        } else {
+            let bytes = base64::engine::general_purpose::STANDARD
+                .decode(body)
+                .map_err(|_| bad("base64"))?;
+            if bytes.len() < 8 {
+                return Err(bad("a short array"));
+            }
+            let n = u64::from_le_bytes(bytes[..8].try_into().unwrap()) as usize;
+            let raw = bytes.get(8..8 + n).ok_or_else(|| bad("a short array"))?;
+            match ty.as_str() {
+                "Float64" => raw
+                    .chunks_exact(8)
+                    .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+                    .collect(),
+                "Int64" => raw
+                    .chunks_exact(8)
+                    .map(|c| i64::from_le_bytes(c.try_into().unwrap()) as f64)
+                    .collect(),
+                "Int32" => raw
+                    .chunks_exact(4)
+                    .map(|c| i32::from_le_bytes(c.try_into().unwrap()) as f64)
+                    .collect(),
+                "UInt8" => raw.iter().map(|&b| b as f64).collect(),
+                other => return Err(bad(&format!("array type {other}"))),
+            }
+        };
+        match section {
+            "FieldData" => {
+                let bytes: Vec<u8> = values.iter().map(|&v| v as u8).collect();
+                let mut names: Vec<String> = bytes
+                    .split(|&b| b == 0)
+                    .map(|s| String::from_utf8_lossy(s).into_owned())
+                    .collect();
+                names.pop();
+                g.field_strings.insert(name, names);
+            }
+            "PointData" => {
+                g.point_data.insert(name, (comps, values));
+            }
+            "CellData" => {
+                g.cell_data.insert(name, (comps, values));
+            }
+            "Points" => {
+                g.points = values.chunks_exact(3).map(|c| [c[0], c[1]]).collect();
+            }
+            "Cells" => match name.as_str() {
+                "connectivity" => conn = values,
+                "offsets" => offsets = values,
+                _ => {}
+            },
+            _ => {}
+        }
+    }
+    let mut start = 0usize;
+    for &o in &offsets {
+        let o = o as usize;
+        if o < start || o > conn.len() {
+            return Err(bad("cell offsets"));
+        }
+        let cell: Vec<usize> = conn[start..o].iter().map(|&i| i as usize).collect();
+        if cell.iter().any(|&i| i >= g.points.len()) {
+            return Err(bad("a cell's point index"));
+        }
+        g.cells.push(cell);
+        start = o;
+    }
+    Ok(g)
+}
+
+/// The frames `(time, file)` of a `.pvd` collection written by [`PvdWriter`].
+pub fn read_pvd(path: &Path) -> Result<Vec<(f64, String)>, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    let mut out = Vec::new();
+    for tag in text.split('<').filter(|t| t.starts_with("DataSet ")) {
+        let time = attribute(tag, "timestep")
+            .and_then(|t| t.parse::<f64>().ok())
+            .ok_or_else(|| format!("{}: a DataSet without a timestep", path.display()))?;
+        let file = attribute(tag, "file")
+            .ok_or_else(|| format!("{}: a DataSet without a file", path.display()))?;
+        out.push((time, file));
+    }
+    Ok(out)
+}

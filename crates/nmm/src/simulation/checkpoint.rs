@@ -146,6 +146,10 @@ pub struct SavedOutputs {
     pub linear: [usize; 5],
     /// cover, assembly, contact, factorisation, solve, output (s).
     pub timings: [Duration; 6],
+    /// Steps done in static mode.
+    pub static_steps: usize,
+    /// Wall-clock time of the whole run up to the checkpoint (s).
+    pub total: Duration,
 }
 
 /// A checkpoint as read from its file.
@@ -513,6 +517,8 @@ impl Simulation {
         w.b(o.last_equilibrium);
         o.linear.iter().for_each(|x| w.us(*x));
         o.timings.iter().for_each(|x| w.d(*x));
+        w.us(o.static_steps);
+        w.d(o.total);
         let mut state = W::default();
         self.encode_state(&mut state);
         w.us(state.0.len());
@@ -647,6 +653,8 @@ impl Checkpoint {
                 last_equilibrium: r.b()?,
                 linear: [r.us()?, r.us()?, r.us()?, r.us()?, r.us()?],
                 timings: [r.d()?, r.d()?, r.d()?, r.d()?, r.d()?, r.d()?],
+                static_steps: r.us()?,
+                total: r.d()?,
             };
             let n = r.len(1)?;
             let state = r.take(n)?.to_vec();

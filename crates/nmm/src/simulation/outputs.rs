@@ -130,6 +130,12 @@ pub struct RunSummary {
     pub active_set_changes: usize,
     /// Static mode: steps that did not end in equilibrium.
     pub not_in_equilibrium: usize,
+    /// Steps done in static mode (all the run's, a resumed run's included).
+    pub static_steps: usize,
+    /// A resumed run: the wall-clock time of the run before its checkpoint, and the cover
+    /// time it had then.
+    pub prior_total: Duration,
+    pub prior_cover: Duration,
     /// Whether the last step ended in equilibrium.
     pub last_equilibrium: bool,
     /// The analysis is static.
@@ -204,7 +210,7 @@ impl RunSummary {
         Some(format!(
             "not in equilibrium: {} of {} static step(s) found no equilibrium (a mechanism; the motion of each was limited), {}",
             self.not_in_equilibrium,
-            self.steps,
+            self.static_steps,
             if self.last_equilibrium {
                 "the last step did"
             } else {
@@ -324,9 +330,10 @@ fn io(path: &Path, e: std::io::Error) -> RunError {
 pub fn history_columns(model: &Model) -> Vec<String> {
     let mut cols = Vec::new();
     for m in &model.monitors {
-        let names: [&str; 4] = match m.kind {
-            MonitorKind::Point { .. } => ["ux", "uy", "vx", "vy"],
-            MonitorKind::Interface { .. } => ["fx", "fy", "fn", "nc"],
+        let names: &[&str] = match m.kind {
+            MonitorKind::Point { .. } => &["ux", "uy", "vx", "vy"],
+            MonitorKind::Interface { .. } => &["fx", "fy", "fn", "nc"],
+            MonitorKind::Block { .. } => &["x", "y", "rotation"],
         };
         cols.extend(names.iter().map(|c| format!("{}.{}", m.name, c)));
     }
@@ -347,10 +354,46 @@ pub fn monitor_values(sim: &Simulation) -> Vec<f64> {
                 let f = sim.contacts.interface_force_between(first, second);
                 vals.extend_from_slice(&[f.fx, f.fy, f.fn_sum, f.count as f64]);
             }
+            (MonitorKind::Block { blocks }, _) => {
+                vals.extend_from_slice(&block_motion(sim, blocks))
+            }
             _ => vals.extend_from_slice(&[f64::NAN; 4]),
         }
     }
     vals
+}
+
+/// The displacement of the centroid of `blocks` (together) and their mean rotation: the
+/// area-weighted means over their manifold elements (in the current geometry) of the
+/// displacement and of each element's rotation θ = atan2(∂uy/∂x − ∂ux/∂y, 2 − ∂ux/∂x −
+/// ∂uy/∂y) (rad, counter-clockwise; the rotation of the element's deformation, exact for a
+/// rigid rotation of any size, ½(∂uy/∂x − ∂ux/∂y) when small).
+pub fn block_motion(sim: &Simulation, blocks: &[usize]) -> [f64; 3] {
+    let (mut a, mut ux, mut uy, mut rot) = (0.0, 0.0, 0.0, 0.0);
+    for &b in blocks {
+        for &ei in &sim.disc.block_elements[b] {
+            let e = &sim.disc.elements[ei];
+            let area = crate::geometry::polygon::signed_area(&e.polygon);
+            if area.is_nan() || area <= 0.0 {
+                continue;
+            }
+            let c = crate::geometry::moments::polygon_moments(&e.polygon, e.polygon[0]).centroid();
+            let ue: [f64; 6] = crate::assembly::global::gather(&sim.u, &sim.elem_dofs[ei]);
+            let w = e.weights(c);
+            ux += area * (w[0] * ue[0] + w[1] * ue[2] + w[2] * ue[4]);
+            uy += area * (w[0] * ue[1] + w[1] * ue[3] + w[2] * ue[5]);
+            let g = e.weight_gradients();
+            // ∂u_i/∂x_j
+            let d = |i: usize, j: usize| (0..3).map(|k| g[k][j] * ue[2 * k + i]).sum::<f64>();
+            rot += area * (d(1, 0) - d(0, 1)).atan2(2.0 - d(0, 0) - d(1, 1));
+            a += area;
+        }
+    }
+    if a > 0.0 {
+        [ux / a, uy / a, rot / a]
+    } else {
+        [f64::NAN; 3]
+    }
 }
 
 /// The deformed manifold elements as a VTK grid.
@@ -621,7 +664,11 @@ pub fn run_simulation(
         Ok(()) => RunStatus::Finished,
     };
     summary.error = result.as_ref().err().map(|e| one_line(&e.to_string()));
-    summary.total_time = sim.timings.cover + start.elapsed();
+    // a resumed run: the time before its checkpoint, then this process's cover and steps
+    summary.total_time = summary.prior_total
+        + sim.timings.cover.saturating_sub(summary.prior_cover)
+        + start.elapsed();
+    summary.static_mode |= summary.static_steps > 0;
     summary.peak_memory_bytes = peak_memory_bytes();
     progress.finish(summary.status);
     let path = out.join("summary.json");
@@ -640,7 +687,8 @@ fn step_to_end(
     progress: &mut dyn RunObserver,
     summary: &mut RunSummary,
 ) -> Result<(), RunError> {
-    let t_out = Instant::now();
+    let t_run = Instant::now();
+    let t_out = t_run;
     write_block_table(&sim.model, &out.join("blocks.csv"))?;
     let hist_path = out.join("history.csv");
     let columns = history_columns(&sim.model);
@@ -688,6 +736,9 @@ fn step_to_end(
         summary.active_set_changes = o.active_set_changes;
         summary.not_in_equilibrium = o.not_in_equilibrium;
         summary.last_equilibrium = o.last_equilibrium;
+        summary.static_steps = o.static_steps;
+        summary.prior_total = o.total;
+        summary.prior_cover = o.timings[0];
         let l = o.linear;
         summary.linear.solves = l[0];
         summary.linear.gmres_iterations = l[1];
@@ -736,6 +787,7 @@ fn step_to_end(
         summary.active_set_changes += rep.active_set_changes;
         summary.not_in_equilibrium += usize::from(!rep.equilibrium);
         summary.last_equilibrium = rep.equilibrium;
+        summary.static_steps += usize::from(sim.model.analysis.mode == crate::model::Mode::Static);
         summary.linear += rep.linear;
         summary.contacts.push(
             sim.contacts
@@ -796,6 +848,10 @@ fn step_to_end(
                 active_set_changes: summary.active_set_changes,
                 not_in_equilibrium: summary.not_in_equilibrium,
                 last_equilibrium: summary.last_equilibrium,
+                static_steps: summary.static_steps,
+                total: summary.prior_total
+                    + sim.timings.cover.saturating_sub(summary.prior_cover)
+                    + t_run.elapsed(),
                 linear: [
                     summary.linear.solves,
                     summary.linear.gmres_iterations,

@@ -176,7 +176,7 @@ pub(super) fn monitors(sim: &mut Simulation) -> Result<(), String> {
                 p,
                 &format!("[[monitor]] \"{}\"", m.name),
             )?),
-            MonitorKind::Interface { .. } => None,
+            MonitorKind::Interface { .. } | MonitorKind::Block { .. } => None,
         });
     }
     sim.monitor_points = pts;

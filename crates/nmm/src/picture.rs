@@ -1,0 +1,426 @@
+//! `nmm plot`: pictures of a model as cut and of a run's frames, as [`Scene`]s that
+//! [`crate::output::plot::plot_scene`] draws (PNG or SVG).
+//!
+//! * [`model_scene`]: the blocks as cut (fixed blocks grey, the others in pastel colours,
+//!   names at their centroids), joint faces coloured by joint set or joint (one colour per
+//!   joint id, listed in the legend), cracks in red, loads as arrows (edge loads at the
+//!   middle of their segment), constraints in magenta (edges as thick lines, points as
+//!   squares), point monitors as circles with their names, and the manifold elements of the
+//!   cover when a discretisation is given (`--mesh`).
+//! * [`frame_scene`]: one frame of a run's `blocks.pvd` (the deformed manifold elements
+//!   filled by a field, block outlines, a colour bar with the unit) and the contacts of the
+//!   same step from `contacts.pvd` (grey open, green stick, red slide); the title names the
+//!   run, the step, the time and the field.
+
+use crate::cover::Discretisation;
+use crate::model::{ConstraintGeometry, LoadKind, Model, MonitorKind};
+use crate::output::plot::{colour_map, MarkerShape, Rgb, Scene, SceneMarker, ScenePolygon};
+use crate::output::vtk::{read_pvd, read_vtu, ReadGrid};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Joint colours (Tableau 10 without red, which marks cracks and sliding contacts).
+const JOINTS: [Rgb; 9] = [
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (148, 103, 189),
+    (140, 86, 75),
+    (227, 119, 194),
+    (188, 189, 34),
+    (23, 190, 207),
+    (0, 0, 0),
+];
+/// Pastel fills of free blocks.
+const FILLS: [Rgb; 6] = [
+    (174, 199, 232),
+    (255, 187, 120),
+    (152, 223, 138),
+    (197, 176, 213),
+    (196, 156, 148),
+    (219, 219, 141),
+];
+const GREY: Rgb = (150, 150, 150);
+const RED: Rgb = (214, 39, 40);
+const MAGENTA: Rgb = (190, 0, 160);
+const LOAD: Rgb = (200, 30, 30);
+
+fn xy(v: &[[f64; 2]]) -> Vec<(f64, f64)> {
+    v.iter().map(|p| (p[0], p[1])).collect()
+}
+
+fn centroid(v: &[[f64; 2]]) -> (f64, f64) {
+    let (mut a, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for i in 0..v.len() {
+        let (p, q) = (v[i], v[(i + 1) % v.len()]);
+        let c = p[0] * q[1] - q[0] * p[1];
+        a += c;
+        cx += (p[0] + q[0]) * c;
+        cy += (p[1] + q[1]) * c;
+    }
+    if a.abs() < 1e-300 {
+        let n = v.len().max(1) as f64;
+        return (
+            v.iter().map(|p| p[0]).sum::<f64>() / n,
+            v.iter().map(|p| p[1]).sum::<f64>() / n,
+        );
+    }
+    (cx / (3.0 * a), cy / (3.0 * a))
+}
+
+/// The model as cut: see the module doc. `mesh`: draw these manifold elements too.
+pub fn model_scene(model: &Model, mesh: Option<&Discretisation>, title: &str) -> Scene {
+    let mut s = Scene {
+        title: title.to_string(),
+        ..Scene::default()
+    };
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for b in &model.blocks {
+        for p in &b.vertices {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
+    let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-12);
+    let mut free = 0usize;
+    for b in &model.blocks {
+        let fill = if b.fixed {
+            GREY
+        } else {
+            free += 1;
+            FILLS[(free - 1) % FILLS.len()]
+        };
+        s.polygons.push(ScenePolygon {
+            points: xy(&b.vertices),
+            fill: Some((fill, if b.fixed { 0.5 } else { 0.8 })),
+            outline: Some(((0, 0, 0), 1)),
+        });
+    }
+    if let Some(d) = mesh {
+        for e in &d.elements {
+            s.polygons.push(ScenePolygon {
+                points: xy(&e.polygon),
+                fill: None,
+                outline: Some(((120, 120, 120), 1)),
+            });
+        }
+    }
+    let mut used = vec![false; model.joints.len()];
+    for b in &model.blocks {
+        let n = b.vertices.len();
+        for (k, j) in b.edge_joint.iter().enumerate() {
+            if let Some(j) = *j {
+                used[j] = true;
+                s.lines.push((
+                    xy(&[b.vertices[k], b.vertices[(k + 1) % n]]),
+                    JOINTS[j % JOINTS.len()],
+                    2,
+                ));
+            }
+        }
+    }
+    for (j, joint) in model.joints.iter().enumerate() {
+        if used[j] {
+            s.legend
+                .push((format!("joint {}", joint.name), JOINTS[j % JOINTS.len()]));
+        }
+    }
+    for c in &model.cracks {
+        s.lines.push((xy(&c.points), RED, 2));
+    }
+    if !model.cracks.is_empty() {
+        s.legend
+            .push((format!("{} crack(s)", model.cracks.len()), RED));
+    }
+    if model.blocks.iter().any(|b| b.fixed) {
+        s.legend.push(("fixed block".into(), GREY));
+    }
+    let arrow = 0.08 * span;
+    for l in &model.loads {
+        let (at, dir) = match l.kind {
+            LoadKind::Edge { a, b, traction } => {
+                s.lines.push((xy(&[a, b]), LOAD, 3));
+                ([0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])], traction)
+            }
+            LoadKind::Point { p, force } => (p, force),
+        };
+        let n = (dir[0] * dir[0] + dir[1] * dir[1]).sqrt();
+        if n > 0.0 {
+            // the arrow ends at the point of application
+            let from = (at[0] - arrow * dir[0] / n, at[1] - arrow * dir[1] / n);
+            s.arrows.push((from, (at[0], at[1]), LOAD));
+        }
+    }
+    if !model.loads.is_empty() {
+        s.legend.push(("load".into(), LOAD));
+    }
+    for c in &model.constraints {
+        match c.geometry {
+            ConstraintGeometry::Edge { a, b } => s.lines.push((xy(&[a, b]), MAGENTA, 5)),
+            ConstraintGeometry::Point { p } => s.markers.push(SceneMarker {
+                at: (p[0], p[1]),
+                shape: MarkerShape::Square,
+                colour: MAGENTA,
+                size: 5,
+            }),
+        }
+    }
+    if !model.constraints.is_empty() {
+        s.legend.push(("constraint".into(), MAGENTA));
+    }
+    let label_size = if model.blocks.len() > 60 { 9 } else { 12 };
+    for b in &model.blocks {
+        s.labels
+            .push((centroid(&b.vertices), b.name.clone(), label_size));
+    }
+    let mut monitors = false;
+    for m in &model.monitors {
+        if let MonitorKind::Point { p, .. } = m.kind {
+            monitors = true;
+            s.markers.push(SceneMarker {
+                at: (p[0], p[1]),
+                shape: MarkerShape::Circle,
+                colour: (255, 215, 0),
+                size: 5,
+            });
+            s.labels
+                .push(((p[0], p[1] + 0.025 * span), m.name.clone(), label_size + 1));
+        }
+    }
+    if monitors {
+        s.legend.push(("monitor".into(), (255, 215, 0)));
+    }
+    s
+}
+
+/// A field of a run's frame that `nmm plot` colours the blocks by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Field {
+    /// |displacement| (m).
+    U,
+    Ux,
+    Uy,
+    Sxx,
+    Syy,
+    Sxy,
+}
+
+impl Field {
+    /// `u`, `ux`, `uy`, `sxx`, `syy`, `sxy` (also `txy`).
+    pub fn parse(s: &str) -> Result<Field, String> {
+        Ok(match s {
+            "u" => Field::U,
+            "ux" => Field::Ux,
+            "uy" => Field::Uy,
+            "sxx" => Field::Sxx,
+            "syy" => Field::Syy,
+            "sxy" | "txy" => Field::Sxy,
+            other => {
+                return Err(format!(
+                    "--field: unknown field \"{other}\" (expected u, ux, uy, sxx, syy or sxy)"
+                ))
+            }
+        })
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Field::U => "|u|",
+            Field::Ux => "ux",
+            Field::Uy => "uy",
+            Field::Sxx => "σxx",
+            Field::Syy => "σyy",
+            Field::Sxy => "τxy",
+        }
+    }
+
+    fn is_stress(self) -> bool {
+        matches!(self, Field::Sxx | Field::Syy | Field::Sxy)
+    }
+}
+
+/// The frames `(time, file)` of a run folder's `blocks.pvd`.
+pub fn run_frames(dir: &Path) -> Result<Vec<(f64, String)>, String> {
+    let pvd = dir.join("blocks.pvd");
+    if !pvd.exists() {
+        return Err(format!(
+            "{}: no blocks.pvd (not a run folder, or a run with --no-vtk)",
+            dir.display()
+        ));
+    }
+    let frames = read_pvd(&pvd)?;
+    if frames.is_empty() {
+        return Err(format!("{}: no frame yet", pvd.display()));
+    }
+    Ok(frames)
+}
+
+/// The step of a frame file `vtk/blocks_NNNNNN.vtu`.
+fn step_of(file: &str) -> Option<usize> {
+    let stem = Path::new(file).file_stem()?.to_str()?;
+    stem.rsplit('_').next()?.parse().ok()
+}
+
+/// The value of `field` per cell of a blocks frame.
+fn cell_values(g: &ReadGrid, field: Field) -> Result<Vec<f64>, String> {
+    if field.is_stress() {
+        let (c, v) = g
+            .cell_data
+            .get("stress")
+            .ok_or("the frame has no stress array")?;
+        let k = match field {
+            Field::Sxx => 0,
+            Field::Syy => 1,
+            _ => 2,
+        };
+        return Ok((0..g.cells.len()).map(|i| v[i * c + k]).collect());
+    }
+    let (c, v) = g
+        .point_data
+        .get("displacement")
+        .ok_or("the frame has no displacement array")?;
+    Ok(g.cells
+        .iter()
+        .map(|cell| {
+            let f = |p: usize| {
+                let (x, y) = (v[p * c], v[p * c + 1]);
+                match field {
+                    Field::Ux => x,
+                    Field::Uy => y,
+                    _ => (x * x + y * y).sqrt(),
+                }
+            };
+            cell.iter().map(|&p| f(p)).sum::<f64>() / cell.len().max(1) as f64
+        })
+        .collect())
+}
+
+/// A unit for values up to `max` in magnitude: (factor to divide by, name).
+fn unit(field: Field, max: f64) -> (f64, &'static str) {
+    if field.is_stress() {
+        if max >= 1e6 {
+            (1e6, "MPa")
+        } else if max >= 1e3 {
+            (1e3, "kPa")
+        } else {
+            (1.0, "Pa")
+        }
+    } else if max < 0.01 {
+        (1e-3, "mm")
+    } else {
+        (1.0, "m")
+    }
+}
+
+/// Frame `index` of the run in `dir` coloured by `field`: see the module doc.
+pub fn frame_scene(dir: &Path, index: usize, field: Field) -> Result<Scene, String> {
+    let frames = run_frames(dir)?;
+    let (time, file) = frames.get(index).ok_or_else(|| {
+        format!(
+            "{}: no frame {index} (blocks.pvd has frames 0 … {})",
+            dir.display(),
+            frames.len() - 1
+        )
+    })?;
+    let g = read_vtu(&dir.join(file))?;
+    let values = cell_values(&g, field)?;
+    let (lo, hi) = values
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    let (lo, hi) = if lo > hi { (0.0, 1.0) } else { (lo, hi) };
+    let (factor, unit) = unit(field, lo.abs().max(hi.abs()));
+    let mut s = Scene::default();
+    let step = step_of(file);
+    s.title = format!(
+        "{} — {}t = {} s — {}",
+        dir.display(),
+        step.map_or(String::new(), |k| format!("step {k}, ")),
+        time,
+        field.name()
+    );
+    let span = hi - lo;
+    for (cell, v) in g.cells.iter().zip(&values) {
+        let t = if span > 0.0 { (v - lo) / span } else { 0.5 };
+        s.polygons.push(ScenePolygon {
+            points: cell
+                .iter()
+                .map(|&p| (g.points[p][0], g.points[p][1]))
+                .collect(),
+            fill: Some((colour_map(t), 1.0)),
+            outline: None,
+        });
+    }
+    // block outlines: the cell edges not shared with another cell of the same block
+    let blocks = g.cell_data.get("block").map(|(_, b)| b.clone());
+    let q = {
+        let (mut mn, mut mx) = (f64::INFINITY, f64::NEG_INFINITY);
+        for p in &g.points {
+            mn = mn.min(p[0]).min(p[1]);
+            mx = mx.max(p[0]).max(p[1]);
+        }
+        ((mx - mn).abs().max(1e-9)) * 1e-7
+    };
+    let key = |p: [f64; 2]| ((p[0] / q).round() as i64, (p[1] / q).round() as i64);
+    type Edge = (i64, (i64, i64), (i64, i64));
+    let mut count: HashMap<Edge, usize> = HashMap::new();
+    for (i, cell) in g.cells.iter().enumerate() {
+        let b = blocks.as_ref().map_or(0, |b| b[i] as i64);
+        for k in 0..cell.len() {
+            let (a, c) = (
+                key(g.points[cell[k]]),
+                key(g.points[cell[(k + 1) % cell.len()]]),
+            );
+            *count.entry((b, a.min(c), a.max(c))).or_default() += 1;
+        }
+    }
+    for (i, cell) in g.cells.iter().enumerate() {
+        let b = blocks.as_ref().map_or(0, |b| b[i] as i64);
+        for k in 0..cell.len() {
+            let (pa, pc) = (g.points[cell[k]], g.points[cell[(k + 1) % cell.len()]]);
+            let (a, c) = (key(pa), key(pc));
+            if count.get(&(b, a.min(c), a.max(c))) == Some(&1) {
+                s.lines
+                    .push((vec![(pa[0], pa[1]), (pc[0], pc[1])], (0, 0, 0), 1));
+            }
+        }
+    }
+    s.colour_bar = Some((
+        lo / factor,
+        hi / factor,
+        format!("{} ({unit})", field.name()),
+    ));
+    // contacts of the same step
+    if let (Some(step), Ok(contacts)) = (step, read_pvd(&dir.join("contacts.pvd"))) {
+        if let Some((_, cfile)) = contacts.iter().find(|(_, f)| step_of(f) == Some(step)) {
+            let c = read_vtu(&dir.join(cfile))?;
+            let states = c.cell_data.get("state").map(|(_, v)| v.clone());
+            let mut seen = [false; 3];
+            for (i, cell) in c.cells.iter().enumerate() {
+                let st = states.as_ref().map_or(0, |v| v[i] as usize).min(2);
+                seen[st] = true;
+                let p = c.points[cell[0]];
+                s.markers.push(SceneMarker {
+                    at: (p[0], p[1]),
+                    shape: MarkerShape::Circle,
+                    colour: [GREY, (44, 160, 44), RED][st],
+                    size: 3,
+                });
+            }
+            for (k, name) in ["contact open", "contact stick", "contact slide"]
+                .iter()
+                .enumerate()
+            {
+                if seen[k] {
+                    s.legend
+                        .push((name.to_string(), [GREY, (44, 160, 44), RED][k]));
+                }
+            }
+        }
+    }
+    Ok(s)
+}

@@ -332,6 +332,7 @@ fn load(
     Ok(model)
 }
 
+#[allow(clippy::too_many_arguments)]
 fn run(
     path: &Path,
     out: &Path,

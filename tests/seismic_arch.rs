@@ -3,10 +3,14 @@
 //! under 2.5 s of a horizontal 2 Hz base motion of 0.2 g (ramped over 0.5 s), Δt = 1 ms:
 //! its joints open and close and slip every cycle (the arch rocks), and at most 1% of the
 //! steps may need a Δt cut (before the rewrite: 307 cuts in 2,500 steps on such a run).
-//! The arch must ride it out. Its largest final displacement (2.88e-2 m, measured; no
-//! closed form exists for a rocking arch) is pinned as a regression figure within ±20%,
-//! where the former check (< 0.1 m) would have passed an arch three times as displaced;
-//! a collapse moves the crown by metres.
+//! The arch must ride it out, and it must have been shaken out of its elastic state.
+//! No closed form exists for a rocking arch, and its final displacement is chaotic: a
+//! change of the last bits of the linear solves (the supernodal factorisation) moved it
+//! from 2.88e-2 to 1.94e-2 m (3.9e-2 m in an earlier session), so no regression figure
+//! pins it. The bounds come from the geometry instead: it stays standing — its largest
+//! final displacement is below a fifth of the voussoir thickness t = 0.3 m (6 cm; a
+//! collapse moves the crown by metres, and the former check, < 0.1 m, was a third of t) —
+//! and it rocked — above 5 mm, where the arch under gravity alone moves 1e-5 m.
 
 use nmm::generate::{arch_model, ArchOptions};
 use nmm::simulation::Simulation;
@@ -55,8 +59,10 @@ fn arch_under_base_motion_needs_few_cuts() {
         cut_steps as f64 <= 0.01 * steps as f64,
         "{cut_steps} of {steps} steps cut"
     );
+    let t = o.thickness;
     assert!(
-        (drift / 2.88e-2 - 1.0).abs() < 0.2,
-        "largest final displacement {drift} m, measured 2.88e-2 m before"
+        drift < 0.2 * t && drift > 5e-3,
+        "largest final displacement {drift} m: not within (5 mm, t/5 = {} m)",
+        0.2 * t
     );
 }

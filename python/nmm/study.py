@@ -127,7 +127,16 @@ def _complete(folder: Path, digest: str) -> bool:
     )
 
 
-def _run_one(name: str, text: str, base_dir: str, source: str, folder: str, digest: str, vtk: bool):
+def _run_one(
+    name: str,
+    text: str,
+    base_dir: str,
+    source: str,
+    folder: str,
+    digest: str,
+    vtk: bool,
+    threads: Optional[int] = 1,
+):
     """One run on a worker: returns its row (never raises for a model or run error)."""
     import nmm
 
@@ -140,7 +149,7 @@ def _run_one(name: str, text: str, base_dir: str, source: str, folder: str, dige
         pass
     try:
         model = nmm.Model.from_toml(text, base_dir, source)
-        nmm.run(model, out=folder_p, vtk=vtk)
+        nmm.run(model, out=folder_p, vtk=vtk, threads=threads)
     except (nmm.ModelError, nmm.RunError) as e:
         return {"status": "error", "error": str(e), "out": folder, "hash": digest}
     except nmm.Interrupted as e:  # stopped (nmm._nmm.stop_all): a row, not a dead worker
@@ -231,6 +240,7 @@ def run(
     rerun: bool = False,
     processes: bool = False,
     progress: bool = False,
+    threads: Optional[int] = 1,
 ):
     """Run a study and return its table (a DataFrame indexed by name, in the given order).
 
@@ -246,7 +256,9 @@ def run(
     a script then needs the ``if __name__ == "__main__":`` guard that multiprocessing asks).
     ``out``: the study folder; run NAME writes ``out/NAME/``. ``vtk``: also write VTK
     frames. ``rerun``: run even what is complete and unchanged. ``progress``: one line on
-    stderr per finished run (``[3/40] NAME ok 12.3 s``).
+    stderr per finished run (``[3/40] NAME ok 12.3 s``). ``threads``: the threads each run
+    computes on (default 1: a study's parallelism is its runs at once; None: each run's
+    default, ``NMM_THREADS`` or the cores of its worker); the results do not depend on it.
 
     Columns: status ("ok", "error" or "skipped"), error (the one-line message), out, steps,
     time, unknowns, iterations (total Newton iterations), iterations_max, cuts (Δt cuts),
@@ -286,7 +298,9 @@ def run(
                 pass
         folder.mkdir(parents=True, exist_ok=True)
         base_abs = os.path.abspath(os.fspath(model.base_dir))
-        todo.append((name, model.to_toml(), base_abs, model.source, str(folder), digest, vtk))
+        todo.append(
+            (name, model.to_toml(), base_abs, model.source, str(folder), digest, vtk, threads)
+        )
         rows[name] = {"status": "pending"}
 
     if todo:

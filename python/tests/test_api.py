@@ -203,6 +203,11 @@ def test_threads_and_progress_arguments():
     assert seen and seen[-1][:2] == (400, 400)
     assert [s for s, _, _ in seen] == sorted(s for s, _, _ in seen)
     assert len(r.history) == 400
+    assert r.summary["threads"] == 1
+    r2 = nmm.run(incline_toml(steps=400), threads=2)
+    assert r2.summary["threads"] == 2
+    # the same numbers whatever the thread count
+    pd.testing.assert_frame_equal(r.history, r2.history, check_exact=True)
     with pytest.raises(ValueError):
         nmm.run(incline_toml(steps=5), threads=0)
 

@@ -290,3 +290,158 @@ impl TangentSolver {
         r
     }
 }
+
+#[cfg(test)]
+#[allow(clippy::needless_range_loop)]
+mod tests {
+    use super::*;
+
+    /// A tridiagonal operator a_ii = d_i, a_{i,i±1} = −1, plus an unsymmetric coupling
+    /// `c` at (0, n−1) that only the full tangent has (the symmetric part drops it, as it
+    /// drops the friction coupling of sliding contacts).
+    struct Tri {
+        d: Vec<f64>,
+        c: f64,
+        pattern: Arc<SparsePattern>,
+    }
+
+    impl Tri {
+        fn new(d: Vec<f64>, c: f64) -> Tri {
+            let n = d.len();
+            let mut groups: Vec<Vec<usize>> = (0..n - 1).map(|i| vec![i, i + 1]).collect();
+            groups.push(vec![0, n - 1]);
+            let pattern = Arc::new(SparsePattern::from_groups(n, groups.iter().map(|g| &g[..])));
+            Tri { d, c, pattern }
+        }
+        fn dense(&self) -> Vec<Vec<f64>> {
+            let n = self.d.len();
+            let mut a = vec![vec![0.0; n]; n];
+            for i in 0..n {
+                a[i][i] = self.d[i];
+                if i + 1 < n {
+                    a[i][i + 1] = -1.0;
+                    a[i + 1][i] = -1.0;
+                }
+            }
+            a[0][n - 1] += self.c;
+            a
+        }
+    }
+
+    impl TangentOperator for Tri {
+        fn size(&self) -> usize {
+            self.d.len()
+        }
+        fn apply(&self, v: &[f64], y: &mut [f64]) {
+            let a = self.dense();
+            for i in 0..v.len() {
+                y[i] = (0..v.len()).map(|j| a[i][j] * v[j]).sum();
+            }
+        }
+        fn pattern(&mut self) -> Arc<SparsePattern> {
+            self.pattern.clone()
+        }
+        fn assemble(&mut self, values: &mut [f64], symmetric: bool) {
+            let a = self.dense();
+            let n = self.d.len();
+            for i in 0..n {
+                for j in 0..n {
+                    let mut v = a[i][j];
+                    if symmetric && i == 0 && j == n - 1 {
+                        v -= self.c;
+                    }
+                    if let Some(s) = self.pattern.slot(i, j) {
+                        values[s] += v;
+                    }
+                }
+            }
+        }
+        fn is_symmetric(&self) -> bool {
+            self.c == 0.0
+        }
+    }
+
+    fn residual(op: &Tri, x: &[f64], b: &[f64]) -> f64 {
+        let mut y = vec![0.0; x.len()];
+        op.apply(x, &mut y);
+        y.iter()
+            .zip(b)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn symmetric_tangent_is_one_direct_solve() {
+        let mut op = Tri::new(vec![3.0; 30], 0.0);
+        let b: Vec<f64> = (0..30).map(|i| (i as f64).cos()).collect();
+        let mut s = TangentSolver::default();
+        let mut x = vec![0.0; 30];
+        s.solve(&mut op, &b, &mut x, 1e-12).unwrap();
+        assert!(residual(&op, &x, &b) < 1e-12);
+        let st = s.stats();
+        assert_eq!(
+            (st.factorisations, st.gmres_iterations, st.lu_factorisations),
+            (1, 0, 0)
+        );
+    }
+
+    #[test]
+    fn unsymmetric_coupling_is_solved_by_gmres_on_the_symmetric_factor() {
+        let mut op = Tri::new(vec![3.0; 30], 0.7);
+        let b: Vec<f64> = (0..30).map(|i| (i as f64).sin()).collect();
+        let mut s = TangentSolver::default();
+        let mut x = vec![0.0; 30];
+        s.solve(&mut op, &b, &mut x, 1e-12).unwrap();
+        assert!(residual(&op, &x, &b) < 1e-10, "{}", residual(&op, &x, &b));
+        let st = s.stats();
+        // rank-one coupling: GMRES converges in about two iterations
+        assert_eq!((st.factorisations, st.lu_factorisations), (1, 0));
+        assert!(
+            st.gmres_iterations >= 1 && st.gmres_iterations <= 4,
+            "{st:?}"
+        );
+    }
+
+    #[test]
+    fn a_stale_factor_serves_a_changed_tangent_then_is_refreshed() {
+        let mut s = TangentSolver::default();
+        let b: Vec<f64> = (0..40).map(|i| 1.0 + (i as f64 * 0.3).sin()).collect();
+        let mut op = Tri::new(vec![3.0; 40], 0.0);
+        let mut x = vec![0.0; 40];
+        s.solve(&mut op, &b, &mut x, 1e-12).unwrap();
+        // a small change (a contact's stiffness at one unknown): the held factor preconditions
+        // GMRES, no new factorisation
+        let mut d = vec![3.0; 40];
+        d[7] = 3.5;
+        let mut op = Tri::new(d, 0.0);
+        s.solve(&mut op, &b, &mut x, 1e-12).unwrap();
+        assert!(residual(&op, &x, &b) < 1e-10);
+        assert_eq!(s.stats().factorisations, 1, "{:?}", s.stats());
+        assert!(s.stats().gmres_iterations >= 1);
+        // a change everywhere: the stale factor does not converge within its budget and is
+        // refreshed; the solve is then direct (symmetric)
+        let mut op = Tri::new((0..40).map(|i| 2.1 + i as f64).collect(), 0.0);
+        s.solve(&mut op, &b, &mut x, 1e-12).unwrap();
+        assert!(residual(&op, &x, &b) < 1e-9, "{}", residual(&op, &x, &b));
+        assert_eq!(s.stats().factorisations, 2, "{:?}", s.stats());
+        // invalidate: the next solve factorises afresh
+        LinearSolver::invalidate(&mut s);
+        s.solve(&mut op, &b, &mut x, 1e-12).unwrap();
+        assert_eq!(s.stats().factorisations, 3);
+    }
+
+    #[test]
+    fn an_indefinite_symmetric_part_falls_back_to_lu() {
+        // d = 1 with off-diagonals −1: the symmetric part is indefinite (Cholesky fails);
+        // with the coupling the full tangent is regular: LU solves it directly
+        let mut d = vec![1.0; 12];
+        d[0] = -2.0;
+        let mut op = Tri::new(d, 0.5);
+        let b: Vec<f64> = (0..12).map(|i| i as f64 - 3.0).collect();
+        let mut s = TangentSolver::default();
+        let mut x = vec![0.0; 12];
+        s.solve(&mut op, &b, &mut x, 1e-12).unwrap();
+        assert!(residual(&op, &x, &b) < 1e-9, "{}", residual(&op, &x, &b));
+        assert_eq!(s.stats().lu_factorisations, 1, "{:?}", s.stats());
+    }
+}

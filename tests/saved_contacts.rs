@@ -12,7 +12,6 @@ const STEPS: usize = 30;
 const MORE: usize = 20;
 
 fn model() -> nmm::model::Model {
-    let angle = 20.0;
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/examples/incline.toml"

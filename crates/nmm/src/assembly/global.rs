@@ -48,3 +48,64 @@ pub fn gather<const N: usize>(x: &[f64], dofs: &[usize; N]) -> [f64; N] {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two groups {0, 1} and {2, 3} of four dofs: columns 0..3 hold rows {0,1}, {0,1},
+    /// {2,3}, {2,3}, so the slots are (0,0)=0, (1,0)=1, (0,1)=2, (1,1)=3, (2,2)=4, (3,2)=5,
+    /// (2,3)=6, (3,3)=7.
+    fn pattern() -> SparsePattern {
+        let groups: [&[usize]; 2] = [&[0, 1], &[2, 3]];
+        let p = SparsePattern::from_groups(4, groups.into_iter());
+        assert_eq!(p.col_ptr, [0, 2, 4, 6, 8]);
+        assert_eq!(p.row_idx, [0, 1, 0, 1, 2, 3, 2, 3]);
+        p
+    }
+
+    const X: u32 = u32::MAX;
+
+    #[test]
+    fn group_slots_are_the_pattern_positions_row_major_with_no_dof_skipped() {
+        let p = pattern();
+        let mut out = [0u32; 9];
+        // rows and columns in the order of the group: dof 1, a fixed cover, dof 0
+        group_slots(&p, &[1, NO_DOF, 0], &mut out);
+        assert_eq!(out, [3, X, 1, X, X, X, 2, X, 0]);
+        let mut out = [0u32; 4];
+        group_slots(&p, &[3, 2], &mut out);
+        assert_eq!(out, [7, 5, 6, 4]);
+    }
+
+    #[test]
+    #[should_panic(expected = "missing from the pattern")]
+    fn a_coupling_missing_from_the_pattern_panics() {
+        let mut out = [0u32; 4];
+        // 0 and 2 are in different groups: (0, 2) is not in the pattern
+        group_slots(&pattern(), &[0, 2], &mut out);
+    }
+
+    #[test]
+    fn scatter_adds_a_local_block_at_its_slots_and_skips_no_dof_entries() {
+        let p = pattern();
+        let mut slots = [0u32; 9];
+        group_slots(&p, &[1, NO_DOF, 0], &mut slots);
+        let local = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0];
+        let mut values = vec![0.0; p.nnz()];
+        values[4] = 0.5;
+        scatter(&mut values, &slots, &local);
+        // (1,1) += 1, (1,0) += 3, (0,1) += 7, (0,0) += 9; the NO_DOF row and column dropped
+        assert_eq!(values, [9.0, 3.0, 7.0, 1.0, 0.5, 0.0, 0.0, 0.0]);
+        // scattering adds (a second block on the same dofs accumulates)
+        scatter(&mut values, &slots, &local);
+        assert_eq!(values, [18.0, 6.0, 14.0, 2.0, 0.5, 0.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn gather_reads_the_dofs_and_gives_zero_for_no_dof() {
+        let x = [10.0, 20.0, 30.0, 40.0];
+        assert_eq!(gather(&x, &[3, NO_DOF, 0]), [40.0, 0.0, 10.0]);
+        assert_eq!(gather(&x, &[NO_DOF; 2]), [0.0, 0.0]);
+    }
+}

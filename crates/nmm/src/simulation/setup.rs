@@ -182,3 +182,208 @@ pub(super) fn monitors(sim: &mut Simulation) -> Result<(), String> {
     sim.monitor_points = pts;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::parse_model;
+    use std::path::Path;
+
+    const E: f64 = 2.0e9;
+    const C: f64 = 1.0e4;
+    const H: f64 = 0.25;
+
+    /// A free unit square (E = 2 GPa, h = 0.25, constraint penalty 1e4) with `extra` keys.
+    fn sim(extra: &str) -> Simulation {
+        let text = format!(
+            "[analysis]\nmode = \"dynamic\"\ndt = 0.001\nsteps = 1\ngravity = [0.0, 0.0]\n\
+             constraint_penalty = {C:?}\n\
+             [cover]\nsize = {H:?}\n\
+             [[material]]\nname = \"m\"\ndensity = 2000.0\nyoung = {E:?}\npoisson = 0.25\n\
+             [[block]]\nname = \"b\"\nmaterial = \"m\"\n\
+             vertices = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]\n{extra}"
+        );
+        let model = parse_model(&text, Path::new(".")).unwrap();
+        Simulation::new(model).unwrap()
+    }
+
+    /// The mesh node (position) of each cover's x dof.
+    fn node_of_dof(sim: &Simulation) -> Vec<Option<Vec2>> {
+        let mut out = vec![None; sim.n_dofs()];
+        for e in &sim.disc.elements {
+            for k in 0..3 {
+                if let Some(d) = sim.disc.covers[e.covers[k]].dof {
+                    out[d] = Some(e.nodes[k]);
+                }
+            }
+        }
+        out
+    }
+
+    /// Σ f_x, Σ f_y and the moments Σ f_y·x_node, Σ f_x·y_node of a nodal force vector.
+    fn resultants(sim: &Simulation, f: &[f64]) -> [f64; 4] {
+        let nodes = node_of_dof(sim);
+        let mut r = [0.0; 4];
+        for (d, x) in nodes.iter().enumerate() {
+            if let Some(x) = x {
+                r[0] += f[d];
+                r[1] += f[d + 1];
+                r[2] += f[d + 1] * x[0];
+                r[3] += f[d] * x[1];
+            }
+        }
+        r
+    }
+
+    // Tolerances: the nodal sums are sums of a few dozen products of O(1) weights, so
+    // 1e-12 relative is ~100 ulp; any wrong weight, missing piece or doubled piece is O(1).
+    fn close(a: f64, b: f64, scale: f64) -> bool {
+        (a - b).abs() <= 1e-12 * scale
+    }
+
+    #[test]
+    fn an_edge_tractions_nodal_forces_are_its_resultant_and_moment() {
+        // traction (2e5, −1e6) Pa on the top edge from x = 0.2 to 0.9 (length 0.7, through
+        // three elements): resultant t·L, and, the cover functions reproducing x, a moment
+        // ∫ t_y x ds = t_y (0.9² − 0.2²)/2 about the origin
+        let s = sim("[[load]]\nblock = \"b\"\nedge = [[0.2, 1.0], [0.9, 1.0]]\ntraction = [2.0e5, -1.0e6]\n");
+        let r = resultants(&s, &s.f_load);
+        let (tx, ty, l) = (2.0e5, -1.0e6, 0.7);
+        assert!(close(r[0], tx * l, 1e6), "{r:?}");
+        assert!(close(r[1], ty * l, 1e6), "{r:?}");
+        assert!(close(r[2], ty * (0.81 - 0.04) / 2.0, 1e6), "{r:?}");
+        assert!(close(r[3], tx * l * 1.0, 1e6), "{r:?}");
+        // only covers whose support touches the loaded stretch of the edge are loaded
+        let nodes = node_of_dof(&s);
+        for (d, x) in nodes.iter().enumerate() {
+            if let Some(x) = x {
+                if s.f_load[d] != 0.0 || s.f_load[d + 1] != 0.0 {
+                    assert!(x[1] > 1.0 - H - 1e-9, "load on a cover at {x:?}");
+                    assert!(x[0] > 0.2 - H - 1e-9 && x[0] < 0.9 + H + 1e-9, "{x:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_point_load_lands_on_the_covers_of_its_element_with_its_barycentric_weights() {
+        let p = [0.3, 0.6];
+        let force = [1.0e3, -2.0e3];
+        let s = sim("[[load]]\nblock = \"b\"\npoint = [0.3, 0.6]\nforce = [1.0e3, -2.0e3]\n");
+        let mp = s.disc.locate(0, p).unwrap();
+        let e = &s.disc.elements[mp.element];
+        // the weights are p's barycentric coordinates in the element's triangle
+        let w = mp.weights;
+        assert!(
+            w.iter().all(|&wk| (-1e-12..=1.0 + 1e-12).contains(&wk)),
+            "{w:?}"
+        );
+        assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        for c in 0..2 {
+            let x: f64 = (0..3).map(|k| w[k] * e.nodes[k][c]).sum();
+            assert!((x - p[c]).abs() < 1e-12, "{x} vs {}", p[c]);
+        }
+        // f = force · w_k on the three covers' dofs, nothing anywhere else
+        let mut expected = vec![0.0; s.n_dofs()];
+        for k in 0..3 {
+            let d = s.disc.covers[e.covers[k]].dof.unwrap();
+            expected[d] += force[0] * w[k];
+            expected[d + 1] += force[1] * w[k];
+        }
+        assert_eq!(s.f_load, expected);
+        let r = resultants(&s, &s.f_load);
+        assert!(
+            close(r[0], force[0], 1e3) && close(r[1], force[1], 1e3),
+            "{r:?}"
+        );
+        // and its moment is the force's: the weights reproduce the point
+        assert!(close(r[2], force[1] * p[0], 1e3), "{r:?}");
+    }
+
+    #[test]
+    fn a_point_constraint_is_a_spring_k_equal_c_e_at_the_point() {
+        let s = sim("[[constraint]]\nblock = \"b\"\npoint = [0.3, 0.6]\nux = 1.0e-3\n");
+        // one component constrained: one spring, on the x dofs
+        assert_eq!(s.penalties.len(), 1);
+        let pen = &s.penalties[0];
+        let mp = s.disc.locate(0, [0.3, 0.6]).unwrap();
+        let e = &s.disc.elements[mp.element];
+        let k = C * E;
+        for i in 0..3 {
+            assert_eq!(pen.dofs[i], s.disc.covers[e.covers[i]].dof.unwrap());
+            assert!(close(pen.g[i], k * mp.weights[i], k));
+            for j in 0..3 {
+                assert!(close(
+                    pen.k[i * 3 + j],
+                    k * mp.weights[i] * mp.weights[j],
+                    k
+                ));
+            }
+        }
+        // a rigid shift u of the element stretches the spring by u: force k u, target g·u0
+        let ksum: f64 = pen.k.iter().sum();
+        assert!(close(ksum, k, k), "{ksum} vs {k}");
+        assert!(close(pen.g.iter().sum::<f64>(), k, k));
+        assert_eq!(s.functions[pen.function].eval(0.5), 1.0e-3);
+    }
+
+    #[test]
+    fn an_edge_constraint_is_a_distributed_spring_c_e_over_h_per_metre() {
+        // uy held on the left edge (length 1, four elements): p = c E / h N/m per m
+        let s = sim("[[constraint]]\nblock = \"b\"\nedge = [[0.0, 0.0], [0.0, 1.0]]\nuy = [[0.0, 0.0], [1.0, 2.0e-3]]\n");
+        let p = C * E / H;
+        assert!(s.penalties.len() >= 4, "{}", s.penalties.len());
+        let nodes = node_of_dof(&s);
+        let (mut ksum, mut gsum, mut moment) = (0.0, 0.0, 0.0);
+        for pen in &s.penalties {
+            // y components only (dof of a cover + 1), covers at the left edge
+            for &d in &pen.dofs {
+                let x = nodes[d - 1].expect("a y dof");
+                assert!(x[0] < H, "{x:?}");
+            }
+            ksum += pen.k.iter().sum::<f64>();
+            gsum += pen.g.iter().sum::<f64>();
+            moment += (0..3)
+                .map(|i| pen.g[i] * nodes[pen.dofs[i] - 1].unwrap()[1])
+                .sum::<f64>();
+            // symmetric, positive semidefinite 3×3 (a Gram matrix of the weights)
+            for i in 0..3 {
+                assert!(pen.k[i * 4] >= 0.0);
+                for j in 0..3 {
+                    assert_eq!(pen.k[i * 3 + j], pen.k[j * 3 + i]);
+                }
+            }
+            assert_eq!(s.functions[pen.function].eval(0.5), 1.0e-3);
+        }
+        // a rigid shift: total stiffness p·L; the target forces p·L and their moment p ∫ y dy
+        assert!(close(ksum, p, p), "{ksum} vs {p}");
+        assert!(close(gsum, p, p), "{gsum} vs {p}");
+        assert!(close(moment, p * 0.5, p), "{moment} vs {}", p * 0.5);
+    }
+
+    #[test]
+    fn monitors_and_bad_points() {
+        let s = sim("[[monitor]]\nname = \"m\"\npoint = [0.7, 0.2]\n");
+        let mp = s.monitor_points[0].unwrap();
+        let e = &s.disc.elements[mp.element];
+        for c in 0..2 {
+            let x: f64 = (0..3).map(|k| mp.weights[k] * e.nodes[k][c]).sum();
+            assert!((x - [0.7, 0.2][c]).abs() < 1e-12);
+        }
+        let text = "[analysis]\nmode = \"dynamic\"\ndt = 0.001\nsteps = 1\n[cover]\nsize = 0.25\n\
+                    [[material]]\nname = \"m\"\ndensity = 2000.0\nyoung = 1e9\npoisson = 0.25\n\
+                    [[block]]\nname = \"b\"\nmaterial = \"m\"\n\
+                    vertices = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]\n\
+                    [[load]]\nblock = \"b\"\npoint = [0.5, 0.5]\nforce = [1.0, 0.0]\n";
+        let mut s = Simulation::new(parse_model(text, Path::new(".")).unwrap()).unwrap();
+        // a point outside the block (as a load would be after the block moved): one line
+        if let LoadKind::Point { p, .. } = &mut s.model.loads[0].kind {
+            *p = [1.5, 0.5];
+        }
+        let err = loads(&mut s).unwrap_err();
+        assert!(
+            err.starts_with("[[load]] #1: point [1.5, 0.5] is not inside block \"b\""),
+            "{err}"
+        );
+    }
+}

@@ -207,3 +207,70 @@ def test_ctrl_c_stops_a_study_and_its_runs(tmp_path):
         s = json.loads((out / n / "summary.json").read_text())
         assert s["status"] == "interrupted" and s["steps"] < 200000
         assert not (out / n / "study.json").exists()
+
+
+def test_a_study_survives_a_dead_worker(tmp_path):
+    """A worker process killed (SIGKILL) in the middle of a long run: the study still
+    returns a row for every run — the killed one an error row whose one-line message names
+    it, the others complete — instead of raising. allowed-failures = 0: dask does not run
+    the task again on another worker (with retries the row would be a re-run instead)."""
+    import os
+    import signal
+    import threading
+    import time
+
+    dask = pytest.importorskip("dask")
+    distributed = pytest.importorskip("distributed")
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+        cluster = distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0"
+        )
+        client = distributed.Client(cluster)
+        try:
+            models = {
+                # held by friction (40° > 30°): the long run goes on until it is killed
+                "long": incline_toml(theta=THETA, phi=40.0, steps=5_000_000),
+                "a": incline_toml(theta=THETA, phi=40.0, steps=100),
+                "b": incline_toml(theta=THETA, phi=10.0, steps=100),
+            }
+            out = tmp_path / "study"
+            result = {}
+
+            def study():
+                try:
+                    result["df"] = nmm.study.run(models, client=client, out=out)
+                except BaseException as e:  # noqa: BLE001 - reported by the assertion below
+                    result["error"] = e
+
+            t = threading.Thread(target=study, daemon=True)
+            t.start()
+            # wait until the short runs are done and the long one is running on a worker
+            deadline = time.monotonic() + 120
+            victim = None
+            while victim is None:
+                assert time.monotonic() < deadline, "the long run never started"
+                assert t.is_alive(), result
+                done = all((out / n / "summary.json").exists() for n in ("a", "b"))
+                if done:
+                    for addr, keys in client.processing().items():
+                        if any("nmm-run-long" in str(k) for k in keys):
+                            victim = addr
+                time.sleep(0.2)
+            time.sleep(1.0)  # well inside the run
+            pids = client.run(os.getpid)
+            os.kill(pids[victim], signal.SIGKILL)
+            t.join(120)
+            assert not t.is_alive(), "the study did not return after its worker died"
+            assert "error" not in result, result.get("error")
+            df = result["df"]
+            assert list(df.index) == ["long", "a", "b"]
+            assert df.loc["a", "status"] == "ok" and df.loc["b", "status"] == "ok", df
+            assert df.loc["long", "status"] == "error", df
+            msg = df.loc["long", "error"]
+            assert "KilledWorker" in msg and "long" in msg and "\n" not in msg, msg
+            # the table on disk says the same
+            on_disk = pd.read_csv(out / "study.csv", index_col="name")
+            assert on_disk.loc["long", "status"] == "error"
+        finally:
+            client.close()
+            cluster.close()

@@ -184,6 +184,7 @@ pub(super) fn monitors(sim: &mut Simulation) -> Result<(), String> {
 }
 
 #[cfg(test)]
+#[allow(clippy::needless_range_loop)] // 3×3 blocks indexed as in the code under test
 mod tests {
     use super::*;
     use crate::model::parse_model;

@@ -212,3 +212,24 @@ mod tests {
         assert!(!c.is_valid());
     }
 }
+
+#[cfg(test)]
+mod allocation_tests {
+    use super::*;
+
+    /// An allocation the machine cannot make (exabytes) is `OutOfMemory`, returned, not an
+    /// abort, and nothing is held afterwards.
+    #[test]
+    fn an_impossible_workspace_is_out_of_memory_not_an_abort() {
+        let mut held = None;
+        let req = faer::dyn_stack::StackReq::new::<f64>(usize::MAX / 16);
+        assert_eq!(ensure(&mut held, req), Err(SolveError::OutOfMemory));
+        assert!(held.is_none());
+        // a possible one afterwards is made
+        assert_eq!(
+            ensure(&mut held, faer::dyn_stack::StackReq::new::<f64>(8)),
+            Ok(())
+        );
+        assert!(held.is_some());
+    }
+}

@@ -12,7 +12,8 @@
 //! When stderr is not a terminal (a batch job, a pipe), an enabled, non-quiet progress
 //! writes instead one plain line every 10 s (`NMM_PROGRESS_SECONDS` sets another interval):
 //! `progress: step 1200/8020 (15.0%), t = 1.2 s, 10 s elapsed, about 57 s left; solves …,
-//! cuts …, active-set changes …`.
+//! cuts …, active-set changes …; factorisations … (… symbolic), GMRES iterations …` (the
+//! bar shows the same counters).
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
@@ -27,6 +28,10 @@ pub struct Progress {
     quiet: bool,
     /// Plain lines when the bar is not drawn: (interval, start, last line, counters).
     plain: Option<Plain>,
+    /// The counters as shown in plain lines and on the bar: solves, cuts, active-set
+    /// changes; then the linear solver's.
+    counts_text: (String, String),
+    linear_text: (String, String),
 }
 
 /// The state of the plain progress lines.
@@ -74,6 +79,8 @@ impl Progress {
             drawn,
             quiet: false,
             plain: None,
+            counts_text: Default::default(),
+            linear_text: Default::default(),
         }
     }
 
@@ -134,13 +141,39 @@ impl Progress {
 
     /// Shows the run's counters: linear solves, Δt cuts, active-set changes.
     pub fn set_counts(&mut self, solves: usize, cuts: usize, changes: usize) {
+        self.counts_text = (
+            format!("; solves {solves}, cuts {cuts}, active-set changes {changes}"),
+            format!("solves {solves}  cuts {cuts}  active-set changes {changes}"),
+        );
+        self.show_counts();
+    }
+
+    /// Adds the linear solver's counters: factorisations (symbolic analyses), GMRES
+    /// iterations.
+    pub fn set_linear(&mut self, s: &nmm::solver::LinearStats) {
+        self.linear_text = (
+            format!(
+                "; factorisations {} ({} symbolic), GMRES iterations {}",
+                s.factorisations + s.lu_factorisations,
+                s.symbolic_analyses,
+                s.gmres_iterations
+            ),
+            format!(
+                "  factorisations {}  GMRES {}",
+                s.factorisations + s.lu_factorisations,
+                s.gmres_iterations
+            ),
+        );
+        self.show_counts();
+    }
+
+    fn show_counts(&mut self) {
         if let Some(p) = self.plain.as_mut() {
-            p.counts = format!("; solves {solves}, cuts {cuts}, active-set changes {changes}");
+            p.counts = format!("{}{}", self.counts_text.0, self.linear_text.0);
         }
         if self.drawn {
-            self.bar.set_message(format!(
-                "solves {solves}  cuts {cuts}  active-set changes {changes}"
-            ));
+            self.bar
+                .set_message(format!("{}{}", self.counts_text.1, self.linear_text.1));
         }
     }
 
@@ -213,6 +246,9 @@ impl nmm::simulation::RunObserver for Progress {
     fn counts(&mut self, solves: usize, cuts: usize, changes: usize) {
         self.set_counts(solves, cuts, changes);
     }
+    fn linear(&mut self, stats: &nmm::solver::LinearStats) {
+        self.set_linear(stats);
+    }
     fn message(&mut self, line: &str) {
         self.println(line);
     }
@@ -282,6 +318,19 @@ mod tests {
         );
         assert!(
             line.ends_with("; solves 7, cuts 1, active-set changes 3"),
+            "{line}"
+        );
+        let stats = nmm::solver::LinearStats {
+            factorisations: 5,
+            symbolic_analyses: 2,
+            gmres_iterations: 40,
+            lu_factorisations: 1,
+            ..Default::default()
+        };
+        p.linear(&stats);
+        let line = p.plain_line(5, 0.005).unwrap();
+        assert!(
+            line.ends_with("; solves 7, cuts 1, active-set changes 3; factorisations 6 (2 symbolic), GMRES iterations 40"),
             "{line}"
         );
         // none at the end, and none before the interval

@@ -35,6 +35,9 @@ pub trait RunObserver: Send {
     /// The run's counters so far, after each step: linear solves (every Newton iteration,
     /// failed attempts included), Δt cuts and contact active-set changes.
     fn counts(&mut self, _solves: usize, _cuts: usize, _active_set_changes: usize) {}
+    /// The run's linear-solver counters so far, after each step (factorisations, symbolic
+    /// analyses, GMRES iterations: why a run is slow).
+    fn linear(&mut self, _stats: &crate::solver::LinearStats) {}
     /// One line of information.
     fn message(&mut self, _line: &str) {}
     /// A warning about the model ([`Simulation::warnings`]), one line, before the first step.
@@ -873,6 +876,7 @@ fn step_to_end(
         summary.output_time += t_out.elapsed();
         progress.step_done(sim.full_steps_done(), sim.time);
         progress.counts(solves_total, cuts_total, summary.active_set_changes);
+        progress.linear(&summary.linear);
         if interrupted {
             summary.interrupted = true;
             break;

@@ -249,18 +249,24 @@ pub fn plot_map(
     Ok(vec![png, svg])
 }
 
-fn draw_map<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    title: &str,
-    polygons: &[MapPolygon],
-    lines: &[MapLine],
+/// A chart in metres on both axes.
+type MapChart<'a, DB> = ChartContext<
+    'a,
+    DB,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// The axes of a map in metres (x and y on the same scale), its mesh drawn: shared by the
+/// figures' maps and `nmm plot`'s scenes.
+fn map_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    (title, size): (&str, u32),
     (xr, yr): (&Range<f64>, &Range<f64>),
     (label_x, label_y): (u32, u32),
-) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-    root.fill(&WHITE)?;
+) -> Result<MapChart<'a, DB>, DrawingAreaErrorKind<DB::ErrorType>> {
     let (xs, ys) = (xr.end - xr.start, yr.end - yr.start);
-    let mut chart = ChartBuilder::on(root)
-        .caption(title, ("sans-serif", 18))
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", size))
         .margin(10)
         .x_label_area_size(label_x)
         .y_label_area_size(label_y)
@@ -277,6 +283,19 @@ fn draw_map<DB: DrawingBackend>(
         .x_label_formatter(&x_fmt)
         .y_label_formatter(&y_fmt)
         .draw()?;
+    Ok(chart)
+}
+
+fn draw_map<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    polygons: &[MapPolygon],
+    lines: &[MapLine],
+    (xr, yr): (&Range<f64>, &Range<f64>),
+    (label_x, label_y): (u32, u32),
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    root.fill(&WHITE)?;
+    let mut chart = map_chart(root, (title, 18), (xr, yr), (label_x, label_y))?;
     for p in polygons {
         let colour = PALETTE[p.colour % PALETTE.len()];
         chart.draw_series(std::iter::once(Polygon::new(
@@ -736,25 +755,8 @@ fn draw_scene<DB: DrawingBackend>(
     root.fill(&WHITE)?;
     let (w, h) = root.dim_in_pixel();
     let (main, right) = root.split_horizontally(w - side);
-    let (xs, ys) = (xr.end - xr.start, yr.end - yr.start);
-    let mut chart = ChartBuilder::on(&main)
-        .caption(&scene.title, ("sans-serif", 17))
-        .margin(10)
-        .x_label_area_size(label_x)
-        .y_label_area_size(label_y)
-        .build_cartesian_2d(xr.clone(), yr.clone())?;
-    let x_fmt = |v: &f64| tick_label(*v, xs);
-    let y_fmt = |v: &f64| tick_label(*v, ys);
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_desc("x (m)")
-        .y_desc("y (m)")
-        .label_style(("sans-serif", 13))
-        .axis_desc_style(("sans-serif", 15))
-        .x_label_formatter(&x_fmt)
-        .y_label_formatter(&y_fmt)
-        .draw()?;
+    let mut chart = map_chart(&main, (&scene.title, 17), (xr, yr), (label_x, label_y))?;
+    let xs = xr.end - xr.start;
     for p in &scene.polygons {
         if let Some((c, alpha)) = p.fill {
             chart.draw_series(std::iter::once(Polygon::new(

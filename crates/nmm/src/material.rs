@@ -64,6 +64,16 @@ pub fn stress_energy_density(d: &Mat3, s: [f64; 3]) -> f64 {
     0.5 * (s[0] * ex + s[1] * ey + s[2] * g)
 }
 
+/// The bilinear form of [`stress_energy_density`]: ½ aᵀ D⁻¹ b (per unit volume), so that the
+/// energy of a stress field σ = Σ_m w_m σ_m is ∫ Σ_mn w_m w_n ½ σ_mᵀ D⁻¹ σ_n.
+pub fn stress_energy_product(d: &Mat3, a: [f64; 3], b: [f64; 3]) -> f64 {
+    let det = d[0][0] * d[1][1] - d[0][1] * d[1][0];
+    let ex = (d[1][1] * b[0] - d[0][1] * b[1]) / det;
+    let ey = (-d[1][0] * b[0] + d[0][0] * b[1]) / det;
+    let g = b[2] / d[2][2];
+    0.5 * (a[0] * ex + a[1] * ey + a[2] * g)
+}
+
 /// Strain energy density ½ εᵀ D ε (its gradient in ε is σ).
 pub fn energy_density(d: &Mat3, strain: [f64; 3]) -> f64 {
     let s = stress(d, strain);

@@ -96,6 +96,30 @@ impl Threads {
             _ => out.iter_mut().enumerate().for_each(|(i, x)| f(i, x)),
         }
     }
+
+    /// `f(i, chunk_i)` for every chunk of `stride` items of `out` (the last may be shorter),
+    /// on the run's threads (each chunk written by one call: the result does not depend on
+    /// the thread count).
+    pub fn for_each_chunk_mut<T: Send>(
+        &self,
+        out: &mut [T],
+        stride: usize,
+        f: impl Fn(usize, &mut [T]) + Sync + Send,
+    ) {
+        let n = out.len().div_ceil(stride.max(1));
+        match &self.pool {
+            Some(p) if n >= MIN_PARALLEL => p.install(|| {
+                out.par_chunks_mut(stride)
+                    .enumerate()
+                    .with_min_len(MIN_PARALLEL / 4)
+                    .for_each(|(i, x)| f(i, x))
+            }),
+            _ => out
+                .chunks_mut(stride)
+                .enumerate()
+                .for_each(|(i, x)| f(i, x)),
+        }
+    }
 }
 
 #[cfg(test)]
@@ -116,6 +140,16 @@ mod tests {
             .for_each_mut(&mut a, |i, x| *x = f(i));
         four.for_each_mut(&mut b, |i, x| *x = f(i));
         assert_eq!(a, b);
+        let (mut c, mut d) = (vec![0.0; 3000], vec![0.0; 3000]);
+        let g = |i: usize, x: &mut [f64]| {
+            x.iter_mut()
+                .enumerate()
+                .for_each(|(j, y)| *y = f(3 * i + j))
+        };
+        Threads::new(1).unwrap().for_each_chunk_mut(&mut c, 3, g);
+        four.for_each_chunk_mut(&mut d, 3, g);
+        assert_eq!(c, a);
+        assert_eq!(d, a);
     }
 
     #[test]

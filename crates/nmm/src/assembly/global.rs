@@ -49,6 +49,15 @@ pub fn gather<const N: usize>(x: &[f64], dofs: &[usize; N]) -> [f64; N] {
     out
 }
 
+/// Gather the local values of a global vector into `out` (zero for [`NO_DOF`]; `out` as
+/// long as `dofs`).
+#[inline]
+pub fn gather_into(x: &[f64], dofs: &[usize], out: &mut [f64]) {
+    for (o, &d) in out.iter_mut().zip(dofs) {
+        *o = if d != NO_DOF { x[d] } else { 0.0 };
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,4 +1,5 @@
-//! Local (per manifold element) integrals, exact for constant cover functions.
+//! Local (per manifold element) integrals, exact for constant cover functions (order 0;
+//! order 1: [`super::quadratic`]). The cover basis ([`crate::cover::basis`]) chooses which.
 //!
 //! In a manifold element the weight functions are linear,
 //! w_i(x) = a_i + g_i · (x − o) with g_i = ∇w_i and o the element's first mesh node
@@ -57,16 +58,10 @@ pub fn element_integrals(e: &ManifoldElement) -> ElementIntegrals {
     }
 }
 
-/// Strain-displacement matrix B (3 × 6).
+/// Strain-displacement matrix B (3 × 6) of the constant basis: the basis's own
+/// ([`crate::cover::basis::b_operator`]).
 pub fn b_matrix(g: &[Vec2; 3]) -> [[f64; 6]; 3] {
-    let mut b = [[0.0; 6]; 3];
-    for i in 0..3 {
-        b[0][2 * i] = g[i][0];
-        b[1][2 * i + 1] = g[i][1];
-        b[2][2 * i] = g[i][1];
-        b[2][2 * i + 1] = g[i][0];
-    }
-    b
+    crate::cover::basis::b_operator(g)
 }
 
 /// ε = B u_e.

@@ -3,3 +3,4 @@
 
 pub mod global;
 pub mod local;
+pub mod quadratic;

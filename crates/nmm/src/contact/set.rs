@@ -10,7 +10,9 @@
 //! g_N(Δu) = g_N⁰ + n · (Δu_P − Δu_Q),   Δg_S(Δu) = t · (Δu_P − Δu_Q),
 //!
 //! with Δu_P = Σ_k w_A,k Δu_k and Δu_Q = Σ_k w_B,k Δu_k, i.e. g_N = g_N⁰ + b_Nᵀ Δu and
-//! Δg_S = b_Sᵀ Δu over the unknowns of the two elements ([`CONTACT_DOFS`]).
+//! Δg_S = b_Sᵀ Δu over the unknowns of the two elements (2 × the basis's unknowns per
+//! element: [`CONTACT_DOFS`] for constant covers; the rows are the basis's
+//! [`crate::cover::CoverBasis::directional_row`]s).
 //!
 //! **Integration of the contact traction (tributary weights, two passes).** The contact
 //! virtual work ∫_Γ (t_N δg_N + t_S δg_S) dΓ is integrated by the vertex (trapezoidal)
@@ -56,7 +58,7 @@ use super::broad::sweep_and_prune;
 use super::friction::{ContactStatus, FrictionParams, LawResponse, ShearHistory};
 use super::law::{law_for, Branch, FrictionLaw, IterationContext};
 use super::narrow::{vertex_edge_contacts, VertexEdge};
-use crate::cover::basis::{directional_row, ELEMENT_DOFS, NO_DOF};
+use crate::cover::basis::{ELEMENT_DOFS, MAX_ELEMENT_DOFS, NO_DOF};
 use crate::cover::{barycentric, Discretisation};
 use crate::geometry::{cross, dot, norm, sub, Aabb, Vec2};
 use crate::model::{FrictionAlgorithm, Model};
@@ -65,8 +67,12 @@ use std::collections::HashMap;
 mod saved;
 pub use saved::SavedContacts;
 
-/// Unknowns a contact couples: those of the vertex's element and of the edge's element.
+/// Unknowns a contact couples with constant covers: those of the vertex's element and of
+/// the edge's element (with first-order covers 36: [`ContactSet::contact_dofs`]).
 pub const CONTACT_DOFS: usize = 2 * ELEMENT_DOFS;
+
+/// A contact's row over its unknowns (inline up to [`CONTACT_DOFS`]).
+pub type ContactRow<T> = smallvec::SmallVec<[T; CONTACT_DOFS]>;
 
 /// (block of the vertex, vertex index on its refined boundary, block of the edge).
 pub type ContactKey = (usize, usize, usize);
@@ -76,9 +82,9 @@ pub struct Contact {
     pub key: ContactKey,
     /// Segment of the edge block's boundary.
     pub segment: usize,
-    pub dofs: [usize; CONTACT_DOFS],
-    pub bn: [f64; CONTACT_DOFS],
-    pub bs: [f64; CONTACT_DOFS],
+    pub dofs: ContactRow<usize>,
+    pub bn: ContactRow<f64>,
+    pub bs: ContactRow<f64>,
     /// Normal gap at the start of the step (negative: penetration).
     pub gn0: f64,
     /// Length of interface this contact stands for (m): half its tributary length.
@@ -109,11 +115,10 @@ impl Contact {
     #[inline]
     pub fn gaps(&self, du: &[f64]) -> (f64, f64) {
         let (mut gn, mut gs) = (self.gn0, 0.0);
-        for i in 0..CONTACT_DOFS {
-            let d = self.dofs[i];
+        for ((&d, bn), bs) in self.dofs.iter().zip(&self.bn).zip(&self.bs) {
             if d != NO_DOF {
-                gn += self.bn[i] * du[d];
-                gs += self.bs[i] * du[d];
+                gn += bn * du[d];
+                gs += bs * du[d];
             }
         }
         (gn, gs)
@@ -123,11 +128,10 @@ impl Contact {
     #[inline]
     fn rates(&self, v: &[f64]) -> (f64, f64) {
         let (mut a, mut b) = (0.0, 0.0);
-        for i in 0..CONTACT_DOFS {
-            let d = self.dofs[i];
+        for ((&d, bn), bs) in self.dofs.iter().zip(&self.bn).zip(&self.bs) {
             if d != NO_DOF {
-                a += self.bn[i] * v[d];
-                b += self.bs[i] * v[d];
+                a += bn * v[d];
+                b += bs * v[d];
             }
         }
         (a, b)
@@ -198,6 +202,8 @@ pub struct ContactSet {
     /// Bumped whenever the contacts are replaced (detection, restore): the tangent pattern
     /// binds its slots to one generation.
     generation: u64,
+    /// Unknowns of each contact (2 × the basis's unknowns per element).
+    row_len: usize,
 }
 
 impl Default for ContactSet {
@@ -213,6 +219,7 @@ impl Default for ContactSet {
             commits: 0,
             faces: Vec::new(),
             generation: 0,
+            row_len: CONTACT_DOFS,
         }
     }
 }
@@ -300,11 +307,19 @@ impl ContactSet {
         self.law
     }
 
+    /// Unknowns of each contact: its two elements' (2 × the basis's per element).
+    pub fn contact_dofs(&self) -> usize {
+        self.row_len
+    }
+
     /// Find the contacts on the current geometry (displacement `u` from the initial one).
     pub fn detect(&mut self, disc: &Discretisation, model: &Model, u: &[f64], search: f64) {
         self.law = law_for(model.analysis.friction);
         self.contacts.clear();
         self.generation += 1;
+        let basis = disc.basis;
+        let ne = basis.element_dofs();
+        self.row_len = 2 * ne;
         if model.blocks.len() < 2 {
             return;
         }
@@ -412,17 +427,20 @@ impl ContactSet {
                     let wb = barycentric(&disc.elements[eb].nodes, q);
                     let wa = vert.at.weights;
                     let ea = &disc.elements[vert.at.element];
-                    let mut dofs = [NO_DOF; CONTACT_DOFS];
-                    let (mut bn, mut bs) = ([0.0; CONTACT_DOFS], [0.0; CONTACT_DOFS]);
+                    let mut dofs: ContactRow<usize> = smallvec::smallvec![NO_DOF; 2 * ne];
+                    let mut bn: ContactRow<f64> = smallvec::smallvec![0.0; 2 * ne];
+                    let mut bs: ContactRow<f64> = smallvec::smallvec![0.0; 2 * ne];
+                    let mut ed = [NO_DOF; MAX_ELEMENT_DOFS];
+                    let (mut rn, mut rs) = ([0.0; MAX_ELEMENT_DOFS], [0.0; MAX_ELEMENT_DOFS]);
                     for (side, (el, w, sign)) in [(ea, wa, 1.0), (&disc.elements[eb], wb, -1.0)]
                         .into_iter()
                         .enumerate()
                     {
-                        let ed = crate::cover::basis::element_dofs(disc, el);
-                        let rn = directional_row(&w, ve.normal);
-                        let rs = directional_row(&w, ve.tangent);
-                        for i in 0..ELEMENT_DOFS {
-                            let k = ELEMENT_DOFS * side + i;
+                        basis.element_dofs_into(disc, el, &mut ed[..ne]);
+                        basis.directional_row(el, &w, ve.normal, &mut rn[..ne]);
+                        basis.directional_row(el, &w, ve.tangent, &mut rs[..ne]);
+                        for i in 0..ne {
+                            let k = ne * side + i;
                             dofs[k] = ed[i];
                             if ed[i] != NO_DOF {
                                 bn[k] = sign * rn[i];
@@ -563,10 +581,9 @@ impl ContactSet {
             if resp.tn == 0.0 && resp.ts == 0.0 {
                 continue;
             }
-            for i in 0..CONTACT_DOFS {
-                let d = c.dofs[i];
+            for ((&d, bn), bs) in c.dofs.iter().zip(&c.bn).zip(&c.bs) {
                 if d != NO_DOF {
-                    r[d] -= c.bn[i] * resp.tn + c.bs[i] * resp.ts;
+                    r[d] -= bn * resp.tn + bs * resp.ts;
                 }
             }
         }
@@ -581,10 +598,9 @@ impl ContactSet {
             if r.tn == 0.0 && r.ts == 0.0 {
                 continue;
             }
-            for i in 0..CONTACT_DOFS {
-                let d = c.dofs[i];
+            for ((&d, bn), bs) in c.dofs.iter().zip(&c.bn).zip(&c.bs) {
                 if d != NO_DOF {
-                    f[d] += (c.bn[i] * r.tn + c.bs[i] * r.ts).abs();
+                    f[d] += (bn * r.tn + bs * r.ts).abs();
                 }
             }
         }
@@ -618,10 +634,9 @@ impl ContactSet {
             let Some((tn, ts)) = f else {
                 continue;
             };
-            for i in 0..CONTACT_DOFS {
-                let k = c.dofs[i];
+            for ((&k, bn), bs) in c.dofs.iter().zip(&c.bn).zip(&c.bs) {
                 if k != NO_DOF {
-                    y[k] += c.bn[i] * tn + c.bs[i] * ts;
+                    y[k] += bn * tn + bs * ts;
                 }
             }
         }
@@ -636,31 +651,37 @@ impl ContactSet {
     }
 
     /// The local tangent block of contact `c` on its chosen branch, row-major over its
-    /// [`CONTACT_DOFS`] unknowns (local work: the caller scatters it), or `None` when it is
-    /// zero (an open contact). `symmetric`: only its symmetric positive part — the normal
-    /// spring and the stick shear spring, without the unsymmetric coupling of a sliding
-    /// contact (a preconditioner).
-    pub fn tangent_block(
-        c: &Contact,
-        symmetric: bool,
-    ) -> Option<[f64; CONTACT_DOFS * CONTACT_DOFS]> {
+    /// unknowns (local work: the caller scatters it), or `None` when it is zero (an open
+    /// contact). `symmetric`: only its symmetric positive part — the normal spring and the
+    /// stick shear spring, without the unsymmetric coupling of a sliding contact (a
+    /// preconditioner).
+    pub fn tangent_block(c: &Contact, symmetric: bool) -> Option<Vec<f64>> {
+        let n = c.dofs.len();
+        let mut k = vec![0.0; n * n];
+        Self::tangent_block_into(c, symmetric, &mut k).then_some(k)
+    }
+
+    /// [`ContactSet::tangent_block`] into `k` (n² long); false (and `k` untouched) when the
+    /// block is zero.
+    pub fn tangent_block_into(c: &Contact, symmetric: bool, k: &mut [f64]) -> bool {
         let [a, mut b, mut cc, d] = c.coef;
         if symmetric {
             b = 0.0;
             cc = 0.0;
         }
         if a == 0.0 && b == 0.0 && cc == 0.0 && d == 0.0 {
-            return None;
+            return false;
         }
-        let mut k = [0.0; CONTACT_DOFS * CONTACT_DOFS];
-        for jj in 0..CONTACT_DOFS {
-            let vn = a * c.bn[jj] + b * c.bs[jj];
-            let vs = cc * c.bn[jj] + d * c.bs[jj];
-            for ii in 0..CONTACT_DOFS {
-                k[ii * CONTACT_DOFS + jj] = c.bn[ii] * vn + c.bs[ii] * vs;
+        let n = c.dofs.len();
+        let (bn, bs) = (&c.bn[..], &c.bs[..]);
+        for jj in 0..n {
+            let vn = a * bn[jj] + b * bs[jj];
+            let vs = cc * bn[jj] + d * bs[jj];
+            for ii in 0..n {
+                k[ii * n + jj] = bn[ii] * vn + bs[ii] * vs;
             }
         }
-        Some(k)
+        true
     }
 
     /// Counts of the chosen branches.

@@ -32,8 +32,9 @@
 //! polygons have boundary pieces lying on that edge and those pieces overlap over a length
 //! `> EDGE_TOL`. A union–find over the slots `(element, local node)` realises this; each
 //! class is one [`PhysicalCover`]. Covers are numbered block by block, and by node index
-//! within a block; free blocks' covers get `COVER_DOFS` consecutive unknowns each in that
-//! order (row-major node order keeps the bandwidth ≈ 2 (nx + 1) · COVER_DOFS).
+//! within a block; free blocks' covers get the basis's unknowns per cover consecutively in
+//! that order (row-major node order keeps the bandwidth ≈ (nx + 1) · unknowns per cover),
+//! less, at order 1, the higher terms [`super::dependence`] removes.
 //!
 //! **Boundaries.** Each block edge is split at every crossing with a mesh line (vertical,
 //! horizontal, or diagonal `u − v ∈ ℤ` in grid coordinates); crossings closer than
@@ -43,8 +44,8 @@
 //! midpoint; because of the merging, a segment lies in its element up to `EDGE_TOL`.
 
 use super::{
-    barycentric, BlockBoundary, BoundaryVertex, Discretisation, ManifoldElement, MaterialPoint,
-    MathMesh, PhysicalCover, COVER_DOFS,
+    barycentric, BlockBoundary, BoundaryVertex, CoverBasis, Discretisation, ManifoldElement,
+    MaterialPoint, MathMesh, PhysicalCover,
 };
 use crate::geometry::clip::Clipper;
 use crate::geometry::moments::polygon_area;
@@ -76,6 +77,16 @@ pub fn discretise_through(
     h: f64,
     origin: Option<Vec2>,
 ) -> Result<Discretisation, DiscretiseError> {
+    discretise_with(blocks, h, origin, CoverBasis::Constant)
+}
+
+/// As [`discretise_through`], with the cover functions `basis` (`[cover] order`).
+pub fn discretise_with(
+    blocks: &[(Vec<Vec2>, bool)],
+    h: f64,
+    origin: Option<Vec2>,
+    basis: CoverBasis,
+) -> Result<Discretisation, DiscretiseError> {
     if !(h.is_finite() && h > 0.0) {
         return Err(DiscretiseError(format!(
             "mesh size h = {h} must be finite and positive"
@@ -95,7 +106,7 @@ pub fn discretise_through(
             "mesh size h = {h} gives too many nodes for the model box (limit {MAX_MESH_NODES})"
         ))
     })?;
-    discretise_on_mesh(blocks, mesh)
+    discretise_on_mesh_with(blocks, mesh, basis)
 }
 
 /// Discretise blocks on a given mathematical mesh (every block strictly inside the
@@ -103,6 +114,15 @@ pub fn discretise_through(
 pub fn discretise_on_mesh(
     blocks: &[(Vec<Vec2>, bool)],
     mesh: MathMesh,
+) -> Result<Discretisation, DiscretiseError> {
+    discretise_on_mesh_with(blocks, mesh, CoverBasis::Constant)
+}
+
+/// As [`discretise_on_mesh`], with the cover functions `basis`.
+pub fn discretise_on_mesh_with(
+    blocks: &[(Vec<Vec2>, bool)],
+    mesh: MathMesh,
+    basis: CoverBasis,
 ) -> Result<Discretisation, DiscretiseError> {
     if !(mesh.h.is_finite() && mesh.h > 0.0 && mesh.nx > 0 && mesh.ny > 0) {
         return Err(DiscretiseError("invalid mathematical mesh".into()));
@@ -128,16 +148,31 @@ pub fn discretise_on_mesh(
         block_elements: Vec::with_capacity(blocks.len()),
         boundaries: Vec::with_capacity(blocks.len()),
         n_dofs: 0,
+        basis,
     };
     for (b, (poly, _)) in blocks.iter().enumerate() {
         build_block(&mut d, &clipper, b, poly)?;
     }
-    // Dof numbering: covers are already block by block, node by node.
+    // Dof numbering: covers are already block by block, node by node; at order 1 less the
+    // higher terms removed for linear dependence.
+    let fixed: Vec<bool> = blocks.iter().map(|b| b.1).collect();
+    let kept = match basis {
+        CoverBasis::Constant => Vec::new(),
+        CoverBasis::Linear => super::dependence::kept_terms(&d, &fixed).terms,
+    };
     let mut next = 0;
-    for c in &mut d.covers {
-        if !blocks[c.block].1 {
+    for (ci, c) in d.covers.iter_mut().enumerate() {
+        if !fixed[c.block] {
             c.dof = Some(next);
-            next += COVER_DOFS;
+            next += 2;
+            for j in 1..basis.terms() {
+                if kept[ci][j - 1] {
+                    c.terms.push(next);
+                    next += 2;
+                } else {
+                    c.terms.push(super::basis::NO_DOF);
+                }
+            }
         }
     }
     d.n_dofs = next;
@@ -463,6 +498,7 @@ fn build_block(
             block: b,
             node: tmp_nodes[c as usize],
             dof: None,
+            terms: Vec::new(),
             support_area: 0.0,
         });
     }

@@ -18,10 +18,7 @@
 //! [`ElementIndex`] (uniform bucket grid over the block's elements, O(1) average).
 
 use super::build::distance_to_polygon;
-use super::{barycentric, Discretisation, MaterialPoint, COVER_DOFS};
-
-// Constant cover functions: (u_x, u_y) at `dof`, `dof + 1`.
-const _: () = assert!(COVER_DOFS == 2);
+use super::{barycentric, Discretisation, MaterialPoint};
 use crate::geometry::{dist, lerp, Aabb, Vec2};
 
 /// Relative (to h) tolerance for accepting a point near an element.
@@ -281,18 +278,11 @@ impl Discretisation {
         pieces
     }
 
-    /// Displacement of a material point: `Σ_k w_k u_{cover k}` (zero for covers
-    /// without unknowns). `u` is the global vector (length ≥ `n_dofs`).
+    /// Displacement of a material point: `Σ_a N_a u_a` of its element's basis (order 0:
+    /// `Σ_k w_k u_{cover k}`; zero for covers without unknowns). `u` is the global vector
+    /// (length ≥ `n_dofs`).
     pub fn displacement_at(&self, p: &MaterialPoint, u: &[f64]) -> Vec2 {
-        let el = &self.elements[p.element];
-        let mut out = [0.0, 0.0];
-        for k in 0..3 {
-            if let Some(dof) = self.covers[el.covers[k]].dof {
-                out[0] += p.weights[k] * u[dof];
-                out[1] += p.weights[k] * u[dof + 1];
-            }
-        }
-        out
+        self.basis.displacement_at(self, p.element, &p.weights, u)
     }
 }
 

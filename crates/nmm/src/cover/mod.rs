@@ -9,27 +9,31 @@
 //!   connected piece (any simple polygon, possibly non-convex).
 //!
 //! Weight functions are the triangle's linear shape functions (barycentric coordinates),
-//! a partition of unity; cover functions are constants, so
-//! `u(x) = Σ_k w_k(x) u_k` over the element's three covers and the strain is constant
-//! per element. The code keeps [`COVER_DOFS`] as the one place that fixes the cover
-//! function's order.
+//! a partition of unity; cover functions are constants (order 0: `u(x) = Σ_k w_k(x) u_k`
+//! over the element's three covers, the strain constant per element) or linear (order 1,
+//! `[cover] order = 1`). The cover basis ([`basis::CoverBasis`], held by the
+//! [`Discretisation`]) is the one place that knows a cover's unknowns and an element's
+//! layout.
 
 pub mod basis;
 mod build;
+pub mod dependence;
 mod locate;
 pub mod mesh;
 pub mod stabilise;
 
+pub use basis::CoverBasis;
 pub use build::{
-    discretise, discretise_on_mesh, discretise_through, DiscretiseError, MAX_MESH_NODES,
-    MIN_PIECE_WIDTH,
+    discretise, discretise_on_mesh, discretise_on_mesh_with, discretise_through, discretise_with,
+    DiscretiseError, MAX_MESH_NODES, MIN_PIECE_WIDTH,
 };
 pub use locate::{ElementIndex, LOCATE_TOL};
 pub use mesh::MathMesh;
 
 use crate::geometry::{cross, sub, Vec2};
 
-/// Unknowns per physical cover (constant cover functions: u_x, u_y).
+/// Unknowns per physical cover of the constant basis (order 0: u_x, u_y); the
+/// discretisation's own count is `Discretisation::basis.cover_dofs()`.
 pub const COVER_DOFS: usize = 2;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -38,8 +42,13 @@ pub struct PhysicalCover {
     pub block: usize,
     /// Mathematical mesh node whose star the cover is a piece of.
     pub node: usize,
-    /// First global unknown (u_x; u_y is `dof + 1`), or `None` for covers of fixed blocks.
+    /// First global unknown (u_x of the constant term, U_0x; u_y is `dof + 1`), or `None`
+    /// for covers of fixed blocks.
     pub dof: Option<usize>,
+    /// The x unknown of each higher cover-function term (order 1: ξ, η; its y unknown is
+    /// the next), [`basis::NO_DOF`] for a term removed for linear dependence
+    /// ([`dependence`]); empty at order 0 and for covers of fixed blocks.
+    pub terms: Vec<usize>,
     /// Area of the cover's support (sum of its elements' areas), m².
     pub support_area: f64,
 }
@@ -86,7 +95,9 @@ pub fn barycentric(t: &[Vec2; 3], x: Vec2) -> [f64; 3] {
 
 /// A material point: an element and its (fixed) weights. Weights are invariant
 /// under the element's affine motion, so the point's displacement is
-/// `Σ_k w_k u_{covers[k]}` at every step.
+/// `Σ_k w_k u_{covers[k]}` at every step (order 0; at order 1 the cover functions are
+/// taken on the element's reference triangle, so the weights are all a point needs too:
+/// [`basis`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MaterialPoint {
     pub element: usize,
@@ -127,6 +138,8 @@ pub struct Discretisation {
     pub boundaries: Vec<BlockBoundary>,
     /// Number of global unknowns.
     pub n_dofs: usize,
+    /// The cover functions (`[cover] order`): the layout of every element's unknowns.
+    pub basis: CoverBasis,
     /// Distance within which every point of a block has an element of that block:
     /// `LOCATE_TOL · h` plus the largest *reach* of a dropped piece (how far a dropped
     /// piece extends from the triangle edges through which it joins the rest of the

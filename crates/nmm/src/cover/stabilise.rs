@@ -14,14 +14,17 @@
 //!
 //! u_c ≈ Σ_j λ_j u_{r_j},   λ = barycentric coordinates of c's mesh node in r's triangle,
 //!
-//! with the energy ½ k_g |u_c − Σ_j λ_j u_{r_j}|², k_g = [`GHOST_STIFFNESS`] · E. A linear
+//! with the energy ½ k_g |u_c − Σ_j λ_j u_{r_j}|², k_g = [`GHOST_STIFFNESS`] · E. At order 1
+//! the tie is on c's constant term (its node's displacement) and the extrapolation of the
+//! root's field, u_c0 ≈ Σ_a N_a(λ) U_a (exact for every quadratic field); c's higher terms
+//! are removed ([`super::dependence`]). A linear
 //! displacement field satisfies the tie exactly (the extrapolation of a linear field is the
 //! field), so the tie costs nothing in the patch test: uniform strain states, rigid motions
 //! and everything they verify are unchanged. In a non-uniform field it replaces the sliver's
 //! arbitrary cover value by the extrapolation of its neighbour, an error of the order of the
 //! discretisation's own.
 
-use super::{Discretisation, COVER_DOFS};
+use super::Discretisation;
 
 /// A cover is tiny when ∫ w_c dΩ over its support is below this fraction of h² (a full
 /// interior cover's weight).
@@ -38,6 +41,9 @@ pub struct GhostTie {
     pub roots: [usize; 3],
     pub lambda: [f64; 3],
     pub block: usize,
+    /// The root element (whose covers are `roots`): at order 1 the tie follows its field,
+    /// Σ_a N_a(λ) U_a, the extrapolation of the element's (quadratic) displacement.
+    pub root: usize,
 }
 
 /// The weight ∫ w_c dΩ of every physical cover over its elements.
@@ -58,7 +64,6 @@ pub fn cover_weights(d: &Discretisation) -> Vec<f64> {
 /// The ghost ties of a discretisation: one per tiny cover of a free block that has a
 /// well-supported neighbouring element (see the module docs).
 pub fn ghost_ties(d: &Discretisation) -> Vec<GhostTie> {
-    const _: () = assert!(COVER_DOFS == 2);
     let h2 = d.mesh.h * d.mesh.h;
     let weights = cover_weights(d);
     let tiny: Vec<bool> = d
@@ -106,6 +111,7 @@ pub fn ghost_ties(d: &Discretisation) -> Vec<GhostTie> {
             roots: el.covers,
             lambda: super::barycentric(&el.nodes, node),
             block: d.covers[c].block,
+            root: r,
         });
     }
     ties

@@ -365,6 +365,9 @@ pub struct Model {
     /// `[cover] origin`: a point the mathematical mesh passes through (a mesh node);
     /// `None`: the default placement (h/2 below and left of the model's box).
     pub cover_origin: Option<Vec2>,
+    /// `[cover] order`: the polynomial order of the cover functions, 0 (constant, the
+    /// default) or 1 (first-order covers: 6 unknowns per cover).
+    pub cover_order: usize,
     pub materials: Vec<Material>,
     pub blocks: Vec<Block>,
     pub interfaces: Vec<Interface>,

@@ -82,6 +82,7 @@ struct CoverKeys {
     origin: Option<Vec2>,
     min_block_area: Option<f64>,
     max_blocks: usize,
+    order: usize,
 }
 
 /// Validate the whole tree. `base_dir` resolves `[base_motion] file`.
@@ -125,6 +126,7 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
         analysis,
         cover_size: cov.size,
         cover_origin: cov.origin,
+        cover_order: cov.order,
         materials,
         blocks,
         interfaces,
@@ -376,7 +378,7 @@ fn cover(root: &Doc) -> R<CoverKeys> {
     let t = table(root, "cover")?
         .ok_or_else(|| error("[cover]: missing table (key `size` is required)"))?;
     let f = root.fields("[cover]", t, "cover", None);
-    f.deny_unknown(&["size", "origin", "min_block_area", "max_blocks"])?;
+    f.deny_unknown(&["size", "origin", "min_block_area", "max_blocks", "order"])?;
     let size = positive(&f, "size", f.req("size", number)?)?;
     let origin = f.opt("origin", point)?;
     let min_block_area = match f.opt("min_block_area", number)? {
@@ -384,11 +386,22 @@ fn cover(root: &Doc) -> R<CoverKeys> {
         None => None,
     };
     let max_blocks = count(&f, "max_blocks", joints::DEFAULT_MAX_BLOCKS, 1)?;
+    let order = match f.opt("order", integer)? {
+        None => 0,
+        Some(n @ (0 | 1)) => n as usize,
+        Some(n) => {
+            return Err(f.err(
+                "order",
+                format!("must be 0 (constant covers) or 1 (first-order covers), got {n}"),
+            ))
+        }
+    };
     Ok(CoverKeys {
         size,
         origin,
         min_block_area,
         max_blocks,
+        order,
     })
 }
 

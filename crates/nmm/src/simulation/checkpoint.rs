@@ -66,13 +66,20 @@ fn stages_of(model: &Model) -> Vec<Stage> {
 }
 
 /// Fingerprint of the whole model (as loaded: `analysis` is the first stage's when there
-/// are stages, whatever stage a simulation is in).
+/// are stages, whatever stage a simulation is in). A key added to the model later enters
+/// it only when it is not its default (`[cover] order` = 0), so that the checkpoints of
+/// models that do not use it are what they were.
 pub fn model_fingerprint(model: &Model) -> u64 {
     let mut m = model.clone();
     if let Some(s) = m.stages.first() {
         m.analysis = s.analysis.clone();
     }
-    hash_debug(&m)
+    let text = format!("{m:?}");
+    if m.cover_order == 0 {
+        fnv1a(text.replacen(", cover_order: 0", "", 1).as_bytes())
+    } else {
+        fnv1a(text.as_bytes())
+    }
 }
 
 /// Fingerprints of what defines a saved state at stage `stage`: blocks, joints, cover,
@@ -91,11 +98,16 @@ pub fn part_fingerprints(model: &Model, stage: usize) -> Vec<(String, Option<u64
         ),
         (
             "cover".to_string(),
-            Some(hash_debug(&(
-                model.cover_size,
-                model.cover_origin,
-                model.min_block_area,
-            ))),
+            Some(if model.cover_order == 0 {
+                hash_debug(&(model.cover_size, model.cover_origin, model.min_block_area))
+            } else {
+                hash_debug(&(
+                    model.cover_size,
+                    model.cover_origin,
+                    model.min_block_area,
+                    model.cover_order,
+                ))
+            }),
         ),
         ("materials".to_string(), Some(hash_debug(&model.materials))),
     ];
@@ -290,7 +302,8 @@ impl Simulation {
     fn moving_elements(&self) -> Vec<usize> {
         (0..self.disc.elements.len())
             .filter(|&i| {
-                self.elem_dofs[i]
+                self.elem_dofs
+                    .of(i)
                     .iter()
                     .any(|&d| d != crate::assembly::global::NO_DOF)
             })
@@ -314,6 +327,12 @@ impl Simulation {
         w.us(moving.len());
         for s in moving.iter().map(|&i| &self.stress[i]) {
             s.iter().for_each(|x| w.f(*x));
+        }
+        // order 1: the stress at the elements' nodes (nothing at order 0)
+        for &i in &moving {
+            for s in self.stress_nodes.iter().skip(3 * i).take(3) {
+                s.iter().for_each(|x| w.f(*x));
+            }
         }
         w.us(moving.len());
         for e in moving.iter().map(|&i| &self.disc.elements[i]) {
@@ -390,6 +409,13 @@ impl Simulation {
         for &i in &moving {
             for x in self.stress[i].iter_mut() {
                 *x = r.f()?;
+            }
+        }
+        for &i in &moving {
+            for s in self.stress_nodes.iter_mut().skip(3 * i).take(3) {
+                for x in s.iter_mut() {
+                    *x = r.f()?;
+                }
             }
         }
         if r.len(48)? != moving.len() {

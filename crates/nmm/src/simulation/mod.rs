@@ -31,11 +31,10 @@ pub use outputs::{
 
 mod step;
 
-use crate::assembly::global::{gather, NO_DOF};
-use crate::assembly::local;
+use crate::assembly::global::{gather_into, NO_DOF};
 use crate::contact::set::ContactSet;
-use crate::cover::basis::{element_dofs, ElementDofs, ELEMENT_DOFS};
-use crate::cover::{discretise_through, Discretisation, MaterialPoint};
+use crate::cover::basis::{CoverBasis, ElementDofTable, MAX_ELEMENT_DOFS};
+use crate::cover::{discretise_with, Discretisation, MaterialPoint};
 use crate::material::{elasticity_matrix, stress as hooke, Mat3};
 use crate::model::{Mode, Model, TimeFunction};
 use crate::solver::{
@@ -48,26 +47,28 @@ use std::time::{Duration, Instant};
 use step::{StepSystem, TangentPattern};
 
 /// A penalty spring tying one displacement component of a material point (or of
-/// a piece of edge) to a prescribed value: energy ½ Σ_ij k_ij U_i U_j − ū Σ_i g_i U_i.
+/// a piece of edge) to a prescribed value: energy ½ Σ_ij k_ij U_i U_j − ū Σ_i g_i U_i over
+/// the constrained component's unknowns of the element's shape functions (n of them: 3 at
+/// order 0, 9 at order 1).
 #[derive(Debug, Clone)]
 pub(crate) struct Penalty {
-    /// The constrained component's global unknown for each of the element's covers.
-    pub dofs: [usize; 3],
-    /// k_ij = p ∫ w_i w_j (edge) or k w_i w_j (point).
-    pub k: [f64; 9],
-    /// g_i = p ∫ w_i (edge) or k w_i (point).
-    pub g: [f64; 3],
+    /// The constrained component's global unknown of each of the element's shape functions.
+    pub dofs: Vec<usize>,
+    /// k_ij = p ∫ N_i N_j (edge) or k N_i N_j (point), n × n row-major.
+    pub k: Vec<f64>,
+    /// g_i = p ∫ N_i (edge) or k N_i (point).
+    pub g: Vec<f64>,
     /// Index into `Simulation::functions`.
     pub function: usize,
 }
 
-/// A ghost tie of a tiny cover to the linear extrapolation of a neighbouring element
-/// ([`crate::cover::stabilise`]): energy ½ Uᵀ k U over its 8 unknowns (the cover's and its
-/// three roots' u_x, u_y).
+/// A ghost tie of a tiny cover to the extrapolation of a neighbouring element
+/// ([`crate::cover::stabilise`]): energy ½ Uᵀ k U over its unknowns (the cover's constant
+/// term and the root element's, u_x and u_y of each: 8 at order 0, 20 at order 1).
 #[derive(Debug, Clone)]
 pub(crate) struct Ghost {
-    pub dofs: [usize; 8],
-    pub k: [f64; 64],
+    pub dofs: Vec<usize>,
+    pub k: Vec<f64>,
 }
 
 impl Ghost {
@@ -76,20 +77,41 @@ impl Ghost {
         tie: &crate::cover::stabilise::GhostTie,
         stiffness: f64,
     ) -> Ghost {
-        let covers = [tie.cover, tie.roots[0], tie.roots[1], tie.roots[2]];
-        let a = [1.0, -tie.lambda[0], -tie.lambda[1], -tie.lambda[2]];
-        let mut dofs = [NO_DOF; 8];
-        let mut k = [0.0; 64];
-        for (i, &c) in covers.iter().enumerate() {
-            if let Some(d) = disc.covers[c].dof {
+        // the x unknown and the coefficient of each term of u_c − extrapolation
+        let mut xdofs = vec![disc.covers[tie.cover].dof.unwrap_or(NO_DOF)];
+        let mut a = vec![1.0];
+        match disc.basis {
+            CoverBasis::Constant => {
+                for j in 0..3 {
+                    xdofs.push(disc.covers[tie.roots[j]].dof.unwrap_or(NO_DOF));
+                    a.push(-tie.lambda[j]);
+                }
+            }
+            basis => {
+                let el = &disc.elements[tie.root];
+                let mut d = [NO_DOF; MAX_ELEMENT_DOFS];
+                basis.element_dofs_into(disc, el, &mut d);
+                let mut n = [0.0; crate::cover::basis::MAX_ELEMENT_SHAPES];
+                basis.shapes(el, &tie.lambda, &mut n);
+                for s in 0..basis.element_shapes() {
+                    xdofs.push(d[2 * s]);
+                    a.push(-n[s]);
+                }
+            }
+        }
+        let m = xdofs.len();
+        let mut dofs = vec![NO_DOF; 2 * m];
+        let mut k = vec![0.0; 4 * m * m];
+        for (i, &d) in xdofs.iter().enumerate() {
+            if d != NO_DOF {
                 dofs[2 * i] = d;
                 dofs[2 * i + 1] = d + 1;
             }
         }
-        for i in 0..4 {
-            for j in 0..4 {
+        for i in 0..m {
+            for j in 0..m {
                 for comp in 0..2 {
-                    k[(2 * i + comp) * 8 + 2 * j + comp] = stiffness * a[i] * a[j];
+                    k[(2 * i + comp) * 2 * m + 2 * j + comp] = stiffness * a[i] * a[j];
                 }
             }
         }
@@ -196,22 +218,20 @@ pub struct Timings {
 struct LinearParts {
     /// Elements and penalties: the tangent pattern cache around the element pattern.
     tangent: TangentPattern,
-    /// Slots of each element's ELEMENT_DOFS² entries (row-major), `u32::MAX` for missing dofs.
-    element_slots: Vec<[u32; ELEMENT_DOFS * ELEMENT_DOFS]>,
-    penalty_slots: Vec<[u32; 9]>,
-    ghost_slots: Vec<[u32; 64]>,
+    /// Slots of each element's n² entries (row-major, n = the basis's unknowns per element,
+    /// element after element), `u32::MAX` for missing dofs.
+    element_slots: Vec<u32>,
+    penalty_slots: Vec<Vec<u32>>,
+    ghost_slots: Vec<Vec<u32>>,
     /// Stiffness, mass and penalty values of the current step.
     k: Vec<f64>,
     m: Vec<f64>,
     p: Vec<f64>,
     /// Rayleigh damping C = αM + βK (per material; dynamic mode only), or empty.
     c: Vec<f64>,
-    /// Element mass matrices of the step (for the right-hand side), ELEMENT_DOFS² each.
-    element_mass: Vec<[f64; ELEMENT_DOFS * ELEMENT_DOFS]>,
-    /// Body-force integrals ρ ∫ w_k per element (for gravity and base motion).
-    element_body: Vec<[f64; 3]>,
-    /// Internal force of σ_n per element.
-    element_internal: Vec<[f64; ELEMENT_DOFS]>,
+    /// Each element's local record of the step ([`CoverBasis::element_local`]: stiffness,
+    /// mass, body-force integrals ρ ∫ N_a, internal force of σ_n), element after element.
+    records: Vec<f64>,
     /// The geometry step these parts were assembled for.
     step: Option<usize>,
 }
@@ -227,13 +247,17 @@ pub struct Simulation {
     pub u: Vec<f64>,
     /// Velocity per unknown.
     pub v: Vec<f64>,
-    /// Stress [σ_xx, σ_yy, τ_xy] per element.
+    /// Stress [σ_xx, σ_yy, τ_xy] per element (order 1: at the centroid of its current
+    /// polygon).
     pub stress: Vec<[f64; 3]>,
+    /// Order 1: the stress of each element at its triangle's three nodes, element after
+    /// element (the stress is linear in the weights); empty at order 0.
+    pub stress_nodes: Vec<[f64; 3]>,
     pub contacts: ContactSet,
     pub timings: Timings,
     /// The energy balance after the last step.
     pub energy: Energy,
-    pub(crate) elem_dofs: Vec<ElementDofs>,
+    pub(crate) elem_dofs: ElementDofTable,
     /// Element areas on the initial geometry: the mass ρ A₀ of an element is conserved
     /// while its area changes with the strain.
     pub(crate) initial_area: Vec<f64>,
@@ -292,15 +316,20 @@ impl Simulation {
             .iter()
             .map(|b| (b.vertices.clone(), b.fixed))
             .collect();
-        let disc = discretise_through(&blocks, model.cover_size, model.cover_origin)
-            .map_err(|e| e.to_string())?;
+        let disc = discretise_with(
+            &blocks,
+            model.cover_size,
+            model.cover_origin,
+            CoverBasis::from_order(model.cover_order).ok_or("[cover] order: must be 0 or 1")?,
+        )
+        .map_err(|e| e.to_string())?;
         let cover_time = t0.elapsed();
         let n = disc.n_dofs;
-        let elem_dofs: Vec<ElementDofs> = disc
-            .elements
-            .iter()
-            .map(|e| element_dofs(&disc, e))
-            .collect();
+        let elem_dofs = ElementDofTable::new(&disc);
+        let stress_nodes = match disc.basis {
+            CoverBasis::Constant => Vec::new(),
+            b => vec![[0.0; 3]; b.stress_values() * disc.elements.len()],
+        };
         let d_mats = model
             .materials
             .iter()
@@ -321,6 +350,7 @@ impl Simulation {
             u: vec![0.0; n],
             v: vec![0.0; n],
             stress: vec![[0.0; 3]; n_el],
+            stress_nodes,
             timings: Timings {
                 cover: cover_time,
                 ..Default::default()
@@ -342,9 +372,7 @@ impl Simulation {
                 m: Vec::new(),
                 p: Vec::new(),
                 c: Vec::new(),
-                element_mass: Vec::new(),
-                element_body: Vec::new(),
-                element_internal: Vec::new(),
+                records: Vec::new(),
                 step: None,
             },
             solver: Box::new(TangentSolver::default()),
@@ -392,7 +420,7 @@ impl Simulation {
     fn build_element_pattern(&mut self) {
         let mut groups: Vec<Vec<usize>> =
             Vec::with_capacity(self.elem_dofs.len() + self.penalties.len());
-        for d in &self.elem_dofs {
+        for d in self.elem_dofs.iter() {
             groups.push(d.iter().copied().filter(|&x| x != NO_DOF).collect());
         }
         for p in &self.penalties {
@@ -413,21 +441,13 @@ impl Simulation {
             }
         };
         let lp = &mut self.linear;
-        lp.element_slots = self
-            .elem_dofs
-            .iter()
-            .map(|d| std::array::from_fn(|k| slot(d[k / ELEMENT_DOFS], d[k % ELEMENT_DOFS])))
-            .collect();
-        lp.penalty_slots = self
-            .penalties
-            .iter()
-            .map(|p| std::array::from_fn(|k| slot(p.dofs[k / 3], p.dofs[k % 3])))
-            .collect();
-        lp.ghost_slots = self
-            .ghosts
-            .iter()
-            .map(|g| std::array::from_fn(|k| slot(g.dofs[k / 8], g.dofs[k % 8])))
-            .collect();
+        let group = |d: &[usize]| -> Vec<u32> {
+            let n = d.len();
+            (0..n * n).map(|k| slot(d[k / n], d[k % n])).collect()
+        };
+        lp.element_slots = self.elem_dofs.iter().flat_map(group).collect();
+        lp.penalty_slots = self.penalties.iter().map(|p| group(&p.dofs)).collect();
+        lp.ghost_slots = self.ghosts.iter().map(|g| group(&g.dofs)).collect();
         let nnz = pattern.nnz();
         lp.k = vec![0.0; nnz];
         lp.m = vec![0.0; nnz];
@@ -465,7 +485,7 @@ impl Simulation {
         let mut n = vec![0; self.model.blocks.len()];
         for c in &self.disc.covers {
             if c.dof.is_some() {
-                n[c.block] += crate::cover::COVER_DOFS;
+                n[c.block] += 2 + 2 * c.terms.iter().filter(|&&t| t != NO_DOF).count();
             }
         }
         n
@@ -576,11 +596,11 @@ impl Simulation {
         let s = self.model.analysis.constraint_penalty / self.penalty_factor;
         for (p, b) in self.penalties.iter_mut().zip(&self.penalty_base) {
             if s == 1.0 {
-                p.k = b.k;
-                p.g = b.g;
+                p.k.clone_from(&b.k);
+                p.g.clone_from(&b.g);
             } else {
-                p.k = b.k.map(|x| x * s);
-                p.g = b.g.map(|x| x * s);
+                p.k = b.k.iter().map(|x| x * s).collect();
+                p.g = b.g.iter().map(|x| x * s).collect();
             }
         }
         self.linear.step = None;
@@ -692,33 +712,40 @@ impl Simulation {
         lp.p.iter_mut().for_each(|v| *v = 0.0);
         lp.c.iter_mut().for_each(|v| *v = 0.0);
         let damped = !lp.c.is_empty();
-        lp.element_mass
-            .resize(n_el, [0.0; ELEMENT_DOFS * ELEMENT_DOFS]);
-        lp.element_body.resize(n_el, [0.0; 3]);
-        lp.element_internal.resize(n_el, [0.0; ELEMENT_DOFS]);
+        let basis = self.disc.basis;
+        let (nd, rl) = (basis.element_dofs(), basis.record_len());
+        let nsv = basis.stress_values();
+        lp.records.resize(n_el * rl, 0.0);
         // local work on the run's threads, then the scatter in element order
         let (disc, model, elem_dofs) = (&self.disc, &self.model, &self.elem_dofs);
-        let (initial_area, d_mats, stress) = (&self.initial_area, &self.d_mats, &self.stress);
-        let locals = self.threads.map(n_el, |ei| {
-            let e = &disc.elements[ei];
-            if elem_dofs[ei].iter().all(|&d| d == NO_DOF) {
-                return None;
-            }
-            let mat = model.blocks[e.block].material;
-            let it = local::element_integrals(e);
-            // conserved mass: the current density is ρ₀ A₀ / A
-            let rho = model.materials[mat].density * initial_area[ei] / it.area;
-            let k = local::stiffness(it.area, &it.grads, &d_mats[mat]);
-            let m = local::mass(rho, &it.int_ww, 1.0);
-            let body: [f64; 3] = std::array::from_fn(|i| rho * it.int_w[i]);
-            let internal = local::internal_force(it.area, &it.grads, &stress[ei]);
-            Some((mat, k, m, body, internal))
-        });
-        for (ei, local) in locals.into_iter().enumerate() {
-            let Some((mat, k, m, body, internal)) = local else {
+        let (initial_area, d_mats) = (&self.initial_area, &self.d_mats);
+        let stress: &[[f64; 3]] = match basis {
+            CoverBasis::Constant => &self.stress,
+            _ => &self.stress_nodes,
+        };
+        self.threads
+            .for_each_chunk_mut(&mut lp.records, rl, |ei, rec| {
+                let e = &disc.elements[ei];
+                if elem_dofs.of(ei).iter().all(|&d| d == NO_DOF) {
+                    return;
+                }
+                let mat = model.blocks[e.block].material;
+                basis.element_local(
+                    e,
+                    model.materials[mat].density,
+                    initial_area[ei],
+                    &d_mats[mat],
+                    &stress[nsv * ei..nsv * (ei + 1)],
+                    rec,
+                );
+            });
+        for ei in 0..n_el {
+            if elem_dofs.of(ei).iter().all(|&d| d == NO_DOF) {
                 continue;
-            };
-            let slots = &lp.element_slots[ei];
+            }
+            let rec = &lp.records[ei * rl..(ei + 1) * rl];
+            let (k, m) = (&rec[..nd * nd], &rec[nd * nd..2 * nd * nd]);
+            let slots = &lp.element_slots[ei * nd * nd..(ei + 1) * nd * nd];
             for (idx, &s) in slots.iter().enumerate() {
                 if s != u32::MAX {
                     lp.k[s as usize] += k[idx];
@@ -726,6 +753,7 @@ impl Simulation {
                 }
             }
             if damped {
+                let mat = self.model.blocks[disc.elements[ei].block].material;
                 let d = self.model.materials[mat].damping;
                 for (idx, &s) in slots.iter().enumerate() {
                     if s != u32::MAX {
@@ -733,9 +761,6 @@ impl Simulation {
                     }
                 }
             }
-            lp.element_mass[ei] = m;
-            lp.element_body[ei] = body;
-            lp.element_internal[ei] = internal;
         }
         for (p, slots) in self.penalties.iter().zip(&lp.penalty_slots) {
             for (idx, &s) in slots.iter().enumerate() {
@@ -778,23 +803,26 @@ impl Simulation {
             *fa = fl.abs() + floor;
         }
         let lp = &self.linear;
+        let nd = self.elem_dofs.stride();
+        let rl = self.disc.basis.record_len();
+        let mut ve = [0.0; MAX_ELEMENT_DOFS];
         for (ei, dofs) in self.elem_dofs.iter().enumerate() {
             if dofs.iter().all(|&d| d == NO_DOF) {
                 continue;
             }
-            let body = &lp.element_body[ei];
-            let m = &lp.element_mass[ei];
-            let ve: [f64; ELEMENT_DOFS] = gather(v_n, dofs);
-            for r in 0..ELEMENT_DOFS {
+            let rec = &lp.records[ei * rl..(ei + 1) * rl];
+            let m = &rec[nd * nd..2 * nd * nd];
+            let body = &rec[2 * nd * nd..2 * nd * nd + nd / 2];
+            let internal = &rec[2 * nd * nd + nd / 2..];
+            gather_into(v_n, dofs, &mut ve[..nd]);
+            for r in 0..nd {
                 let d = dofs[r];
                 if d == NO_DOF {
                     continue;
                 }
                 let fb = body[r / 2] * b[r % 2];
-                let mv: f64 = (0..ELEMENT_DOFS)
-                    .map(|c| m[r * ELEMENT_DOFS + c] * ve[c])
-                    .sum();
-                let fi = lp.element_internal[ei][r];
+                let mv: f64 = (0..nd).map(|c| m[r * nd + c] * ve[c]).sum();
+                let fi = internal[r];
                 f[d] += fb + cv * mv - fi;
                 // physical forces: body forces, the inertia of the motion, the stresses
                 f_ext_abs[d] += fb.abs() + (cv * mv).abs() + fi.abs();
@@ -809,21 +837,26 @@ impl Simulation {
             }
         }
         // ghost ties: their force on the displacement at the step start
+        let mut ue = Vec::new();
         for g in &self.ghosts {
-            let ue: [f64; 8] = gather(&self.u, &g.dofs);
-            for i in 0..8 {
+            let n = g.dofs.len();
+            ue.resize(n, 0.0);
+            gather_into(&self.u, &g.dofs, &mut ue);
+            for i in 0..n {
                 if g.dofs[i] != NO_DOF {
-                    f[g.dofs[i]] -= (0..8).map(|j| g.k[i * 8 + j] * ue[j]).sum::<f64>();
+                    f[g.dofs[i]] -= (0..n).map(|j| g.k[i * n + j] * ue[j]).sum::<f64>();
                 }
             }
         }
         for p in &self.penalties {
             let target = self.functions[p.function].eval(t1);
-            let ue: [f64; 3] = gather(&self.u, &p.dofs);
-            for i in 0..3 {
+            let n = p.dofs.len();
+            ue.resize(n, 0.0);
+            gather_into(&self.u, &p.dofs, &mut ue);
+            for i in 0..n {
                 if p.dofs[i] != NO_DOF {
                     f[p.dofs[i]] +=
-                        target * p.g[i] - (0..3).map(|j| p.k[i * 3 + j] * ue[j]).sum::<f64>();
+                        target * p.g[i] - (0..n).map(|j| p.k[i * n + j] * ue[j]).sum::<f64>();
                 }
             }
         }
@@ -1278,13 +1311,19 @@ impl Simulation {
 
     /// The first element whose triangle or polygon would change orientation under `du`.
     fn inverted_element(&self, du: &[f64]) -> Option<usize> {
+        let basis = self.disc.basis;
+        let nd = self.elem_dofs.stride();
+        let mut ue = [0.0; MAX_ELEMENT_DOFS];
         for (ei, e) in self.disc.elements.iter().enumerate() {
-            let ue: [f64; ELEMENT_DOFS] = gather(du, &self.elem_dofs[ei]);
+            let ue = &mut ue[..nd];
+            gather_into(du, self.elem_dofs.of(ei), ue);
             if ue.iter().all(|&x| x == 0.0) {
                 continue;
             }
-            let moved: [crate::geometry::Vec2; 3] =
-                std::array::from_fn(|k| [e.nodes[k][0] + ue[2 * k], e.nodes[k][1] + ue[2 * k + 1]]);
+            let moved: [crate::geometry::Vec2; 3] = std::array::from_fn(|k| {
+                let d = basis.node_displacement(ue, k);
+                [e.nodes[k][0] + d[0], e.nodes[k][1] + d[1]]
+            });
             let a0 = crate::geometry::cross(
                 crate::geometry::sub(e.nodes[1], e.nodes[0]),
                 crate::geometry::sub(e.nodes[2], e.nodes[0]),
@@ -1344,30 +1383,64 @@ impl Simulation {
         }
         self.contacts.commit(du);
         let mut max_du = 0.0f64;
+        let basis = self.disc.basis;
+        let nd = self.elem_dofs.stride();
+        let mut ue = [0.0; MAX_ELEMENT_DOFS];
+        let mut moves: Vec<crate::geometry::Vec2> = Vec::new();
         for (ei, e) in self.disc.elements.iter_mut().enumerate() {
-            let dofs = &self.elem_dofs[ei];
-            let ue: [f64; ELEMENT_DOFS] = gather(du, dofs);
+            let ue = &mut ue[..nd];
+            gather_into(du, self.elem_dofs.of(ei), ue);
             if ue.iter().all(|&x| x == 0.0) {
                 continue;
             }
             let mat = self.model.blocks[e.block].material;
-            let g = e.weight_gradients();
-            let ds = hooke(&self.d_mats[mat], local::strain(&g, &ue));
-            let s = &mut self.stress[ei];
-            for k in 0..3 {
-                s[k] += ds[k];
+            let d_mat = &self.d_mats[mat];
+            match basis {
+                CoverBasis::Constant => {
+                    let ds = hooke(d_mat, basis.strain(e, &[0.0; 3], ue));
+                    let s = &mut self.stress[ei];
+                    for k in 0..3 {
+                        s[k] += ds[k];
+                    }
+                }
+                _ => {
+                    // the stress is linear in the weights: its increments at the nodes
+                    for m in 0..3 {
+                        let mut w = [0.0; 3];
+                        w[m] = 1.0;
+                        let ds = hooke(d_mat, basis.strain(e, &w, ue));
+                        let s = &mut self.stress_nodes[3 * ei + m];
+                        for k in 0..3 {
+                            s[k] += ds[k];
+                        }
+                    }
+                }
             }
-            // geometry: polygon vertices move by Σ w_k Δu_k (weights on the old triangle), then the nodes
-            for x in e.polygon.iter_mut() {
-                let w = crate::cover::barycentric(&e.nodes, *x);
-                let d = crate::cover::basis::interpolate(&w, &ue);
+            // geometry: polygon vertices move by Δu (weights on the old triangle), then the nodes
+            moves.clear();
+            let er: &crate::cover::ManifoldElement = e;
+            moves.extend(er.polygon.iter().map(|x| {
+                let w = crate::cover::barycentric(&er.nodes, *x);
+                basis.interpolate(er, &w, ue)
+            }));
+            for (x, d) in e.polygon.iter_mut().zip(&moves) {
                 x[0] += d[0];
                 x[1] += d[1];
             }
             for k in 0..3 {
-                e.nodes[k][0] += ue[2 * k];
-                e.nodes[k][1] += ue[2 * k + 1];
-                max_du = max_du.max(ue[2 * k].hypot(ue[2 * k + 1]));
+                let d = basis.node_displacement(ue, k);
+                e.nodes[k][0] += d[0];
+                e.nodes[k][1] += d[1];
+                max_du = max_du.max(d[0].hypot(d[1]));
+            }
+            if basis != CoverBasis::Constant {
+                // the stress written out: at the centroid of the moved polygon
+                let c =
+                    crate::geometry::moments::polygon_moments(&e.polygon, e.polygon[0]).centroid();
+                let w = crate::cover::barycentric(&e.nodes, c);
+                let sn = &self.stress_nodes[3 * ei..3 * ei + 3];
+                self.stress[ei] =
+                    std::array::from_fn(|k| w[0] * sn[0][k] + w[1] * sn[1][k] + w[2] * sn[2][k]);
             }
         }
         self.last_max_du = max_du;
@@ -1388,9 +1461,14 @@ impl Simulation {
         // work of gravity and of the base's inertial force over the step (body forces of the
         // step's geometry), and of the loads
         let (mut w_grav, mut w_ext) = (0.0, 0.0);
+        let nd = self.elem_dofs.stride();
+        let rl = self.disc.basis.record_len();
         for (ei, dofs) in self.elem_dofs.iter().enumerate() {
-            let body = &lp.element_body[ei];
-            for r in 0..ELEMENT_DOFS {
+            if dofs.iter().all(|&d| d == NO_DOF) {
+                continue;
+            }
+            let body = &lp.records[ei * rl + 2 * nd * nd..ei * rl + 2 * nd * nd + nd / 2];
+            for r in 0..nd {
                 if dofs[r] != NO_DOF {
                     let x = du[dofs[r]] * body[r / 2];
                     w_grav += x * g[r % 2];
@@ -1402,36 +1480,68 @@ impl Simulation {
         let mut mv = vec![0.0; self.v.len()];
         step::sym_mul(lp.tangent.element(), &lp.m, &self.v, &mut mv);
         let kinetic = 0.5 * mv.iter().zip(&self.v).map(|(a, b)| a * b).sum::<f64>();
-        let elastic: f64 = self
-            .disc
-            .elements
-            .iter()
-            .zip(&self.stress)
-            .map(|(e, s)| {
-                let mat = self.model.blocks[e.block].material;
-                crate::geometry::moments::polygon_area(&e.polygon)
-                    * crate::material::stress_energy_density(&self.d_mats[mat], *s)
-            })
-            .sum();
+        let elastic: f64 = match self.disc.basis {
+            CoverBasis::Constant => self
+                .disc
+                .elements
+                .iter()
+                .zip(&self.stress)
+                .map(|(e, s)| {
+                    let mat = self.model.blocks[e.block].material;
+                    crate::geometry::moments::polygon_area(&e.polygon)
+                        * crate::material::stress_energy_density(&self.d_mats[mat], *s)
+                })
+                .sum(),
+            _ => self
+                .disc
+                .elements
+                .iter()
+                .zip(self.stress_nodes.chunks_exact(3))
+                .map(|(e, s)| {
+                    if s.iter().all(|x| *x == [0.0; 3]) {
+                        return 0.0;
+                    }
+                    let mat = self.model.blocks[e.block].material;
+                    let ww = crate::assembly::quadratic::weight_products(e);
+                    let mut en = 0.0;
+                    for m in 0..3 {
+                        for n in 0..3 {
+                            en += ww[m][n]
+                                * crate::material::stress_energy_product(
+                                    &self.d_mats[mat],
+                                    s[m],
+                                    s[n],
+                                );
+                        }
+                    }
+                    en
+                })
+                .sum(),
+        };
         let t_now = t1;
         let mut penalty = 0.0;
+        let mut ue = Vec::new();
         for p in &self.penalties {
             let target = self.functions[p.function].eval(t_now);
-            let ue: [f64; 3] = gather(&self.u, &p.dofs);
+            let n = p.dofs.len();
+            ue.resize(n, 0.0);
+            gather_into(&self.u, &p.dofs, &mut ue);
             let mut e = 0.0;
-            for i in 0..3 {
-                for j in 0..3 {
-                    e += 0.5 * p.k[i * 3 + j] * (ue[i] * ue[j] + target * target);
+            for i in 0..n {
+                for j in 0..n {
+                    e += 0.5 * p.k[i * n + j] * (ue[i] * ue[j] + target * target);
                 }
                 e -= target * p.g[i] * ue[i];
             }
             penalty += e;
         }
         for gh in &self.ghosts {
-            let ue: [f64; 8] = gather(&self.u, &gh.dofs);
-            for i in 0..8 {
-                for j in 0..8 {
-                    penalty += 0.5 * gh.k[i * 8 + j] * ue[i] * ue[j];
+            let n = gh.dofs.len();
+            ue.resize(n, 0.0);
+            gather_into(&self.u, &gh.dofs, &mut ue);
+            for i in 0..n {
+                for j in 0..n {
+                    penalty += 0.5 * gh.k[i * n + j] * ue[i] * ue[j];
                 }
             }
         }

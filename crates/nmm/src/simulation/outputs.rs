@@ -373,6 +373,7 @@ pub fn monitor_values(sim: &Simulation) -> Vec<f64> {
 /// rigid rotation of any size, ½(∂uy/∂x − ∂ux/∂y) when small).
 pub fn block_motion(sim: &Simulation, blocks: &[usize]) -> [f64; 3] {
     let (mut a, mut ux, mut uy, mut rot) = (0.0, 0.0, 0.0, 0.0);
+    let basis = sim.disc.basis;
     for &b in blocks {
         for &ei in &sim.disc.block_elements[b] {
             let e = &sim.disc.elements[ei];
@@ -381,14 +382,17 @@ pub fn block_motion(sim: &Simulation, blocks: &[usize]) -> [f64; 3] {
                 continue;
             }
             let c = crate::geometry::moments::polygon_moments(&e.polygon, e.polygon[0]).centroid();
-            let ue: [f64; 6] = crate::assembly::global::gather(&sim.u, &sim.elem_dofs[ei]);
+            let dofs = sim.elem_dofs.of(ei);
+            let mut ue = [0.0; crate::cover::basis::MAX_ELEMENT_DOFS];
+            let ue = &mut ue[..dofs.len()];
+            crate::assembly::global::gather_into(&sim.u, dofs, ue);
             let w = e.weights(c);
-            ux += area * (w[0] * ue[0] + w[1] * ue[2] + w[2] * ue[4]);
-            uy += area * (w[0] * ue[1] + w[1] * ue[3] + w[2] * ue[5]);
-            let g = e.weight_gradients();
+            let u = basis.interpolate(e, &w, ue);
+            ux += area * u[0];
+            uy += area * u[1];
             // ∂u_i/∂x_j
-            let d = |i: usize, j: usize| (0..3).map(|k| g[k][j] * ue[2 * k + i]).sum::<f64>();
-            rot += area * (d(1, 0) - d(0, 1)).atan2(2.0 - d(0, 0) - d(1, 1));
+            let d = basis.displacement_gradient(e, &w, ue);
+            rot += area * (d[1][0] - d[0][1]).atan2(2.0 - d[0][0] - d[1][1]);
             a += area;
         }
     }
@@ -404,24 +408,24 @@ pub fn blocks_grid(sim: &Simulation) -> Grid {
     let mut g = Grid::default();
     let (mut disp, mut vel) = (Vec::new(), Vec::new());
     let (mut block, mut stress, mut cell_u) = (Vec::new(), Vec::new(), Vec::new());
+    let basis = sim.disc.basis;
+    let (mut ue, mut ve) = (
+        [0.0; crate::cover::basis::MAX_ELEMENT_DOFS],
+        [0.0; crate::cover::basis::MAX_ELEMENT_DOFS],
+    );
     for (ei, e) in sim.disc.elements.iter().enumerate() {
         let start = g.points.len();
-        let dofs = &sim.elem_dofs[ei];
-        let ue: [f64; 6] = crate::assembly::global::gather(&sim.u, dofs);
-        let ve: [f64; 6] = crate::assembly::global::gather(&sim.v, dofs);
+        let dofs = sim.elem_dofs.of(ei);
+        let (ue, ve) = (&mut ue[..dofs.len()], &mut ve[..dofs.len()]);
+        crate::assembly::global::gather_into(&sim.u, dofs, ue);
+        crate::assembly::global::gather_into(&sim.v, dofs, ve);
         let mut c = [0.0; 2];
         for x in &e.polygon {
             let w = e.weights(*x);
             g.points.push(*x);
-            let u = [
-                w[0] * ue[0] + w[1] * ue[2] + w[2] * ue[4],
-                w[0] * ue[1] + w[1] * ue[3] + w[2] * ue[5],
-            ];
+            let u = basis.interpolate(e, &w, ue);
             disp.extend_from_slice(&u);
-            vel.extend_from_slice(&[
-                w[0] * ve[0] + w[1] * ve[2] + w[2] * ve[4],
-                w[0] * ve[1] + w[1] * ve[3] + w[2] * ve[5],
-            ]);
+            vel.extend_from_slice(&basis.interpolate(e, &w, ve));
             c[0] += u[0] / e.polygon.len() as f64;
             c[1] += u[1] / e.polygon.len() as f64;
         }

@@ -12,7 +12,8 @@
 
 use super::{Penalty, Simulation};
 use crate::assembly::global::NO_DOF;
-use crate::cover::{barycentric, MaterialPoint};
+use crate::cover::basis::MAX_ELEMENT_SHAPES;
+use crate::cover::{barycentric, CoverBasis, MaterialPoint};
 use crate::geometry::{dist, Vec2};
 use crate::model::{ConstraintGeometry, LoadKind, MonitorKind};
 
@@ -59,11 +60,71 @@ fn locate(sim: &Simulation, block: usize, p: Vec2, what: &str) -> Result<Materia
     })
 }
 
-fn cover_dof(sim: &Simulation, element: usize, k: usize, component: usize) -> usize {
-    let c = sim.disc.elements[element].covers[k];
-    match sim.disc.covers[c].dof {
-        Some(d) => d + component,
-        None => NO_DOF,
+/// The global unknown of component `component` of each of `element`'s shape functions.
+fn shape_dofs(sim: &Simulation, element: usize, component: usize) -> Vec<usize> {
+    let d = sim.elem_dofs.of(element);
+    (0..d.len() / 2).map(|a| d[2 * a + component]).collect()
+}
+
+/// The shape functions of `element` at weights `w`.
+fn shapes(sim: &Simulation, element: usize, w: &[f64; 3]) -> Vec<f64> {
+    let b = sim.disc.basis;
+    let mut n = [0.0; MAX_ELEMENT_SHAPES];
+    b.shapes(&sim.disc.elements[element], w, &mut n);
+    n[..b.element_shapes()].to_vec()
+}
+
+/// Points and weights of the 3-point Gauss–Legendre rule on [0, 1] (exact to degree 5).
+const GAUSS3: [(f64, f64); 3] = [
+    (0.112_701_665_379_258_3, 5.0 / 18.0),
+    (0.5, 8.0 / 18.0),
+    (0.887_298_334_620_741_7, 5.0 / 18.0),
+];
+
+/// `scale` × ∫ N_a ds and ∫ N_a N_b ds (row-major) over a boundary piece of `element` of length `len`
+/// whose ends have weights `w1`, `w2` (the weights are linear along it): exact, in closed
+/// form for constant covers (N = w), by 3-point Gauss–Legendre for first-order covers (N
+/// quadratic along the piece: products of degree 4).
+fn piece_integrals(
+    sim: &Simulation,
+    element: usize,
+    w1: &[f64; 3],
+    w2: &[f64; 3],
+    len: f64,
+    scale: f64,
+) -> (Vec<f64>, Vec<f64>) {
+    match sim.disc.basis {
+        CoverBasis::Constant => {
+            let g = (0..3)
+                .map(|i| scale * len * 0.5 * (w1[i] + w2[i]))
+                .collect();
+            let mut k = vec![0.0; 9];
+            for i in 0..3 {
+                for j in 0..3 {
+                    k[i * 3 + j] = scale
+                        * len
+                        * (w1[i] * w1[j] / 3.0
+                            + (w1[i] * w2[j] + w2[i] * w1[j]) / 6.0
+                            + w2[i] * w2[j] / 3.0);
+                }
+            }
+            (g, k)
+        }
+        _ => {
+            let n = sim.disc.basis.element_shapes();
+            let (mut g, mut k) = (vec![0.0; n], vec![0.0; n * n]);
+            for (t, wq) in GAUSS3 {
+                let w: [f64; 3] = std::array::from_fn(|i| (1.0 - t) * w1[i] + t * w2[i]);
+                let nv = shapes(sim, element, &w);
+                for a in 0..n {
+                    g[a] += scale * len * wq * nv[a];
+                    for b in 0..n {
+                        k[a * n + b] += scale * len * wq * nv[a] * nv[b];
+                    }
+                }
+            }
+            (g, k)
+        }
     }
 }
 
@@ -75,10 +136,10 @@ pub(super) fn loads(sim: &mut Simulation) -> Result<(), String> {
                 for (e, w1, w2, len) in edge_pieces(sim, load.block, *a, *b)
                     .map_err(|m| format!("[[load]] #{}: {m}", li + 1))?
                 {
-                    for k in 0..3 {
-                        let iw = 0.5 * len * (w1[k] + w2[k]);
+                    let (iw, _) = piece_integrals(sim, e, &w1, &w2, len, 1.0);
+                    for (k, iw) in iw.iter().enumerate() {
                         for (c, tc) in traction.iter().enumerate() {
-                            let d = cover_dof(sim, e, k, c);
+                            let d = sim.elem_dofs.of(e)[2 * k + c];
                             if d != NO_DOF {
                                 f[d] += tc * iw;
                             }
@@ -88,11 +149,11 @@ pub(super) fn loads(sim: &mut Simulation) -> Result<(), String> {
             }
             LoadKind::Point { p, force } => {
                 let mp = locate(sim, load.block, *p, &format!("[[load]] #{}", li + 1))?;
-                for k in 0..3 {
+                for (k, nk) in shapes(sim, mp.element, &mp.weights).iter().enumerate() {
                     for (c, fc) in force.iter().enumerate() {
-                        let d = cover_dof(sim, mp.element, k, c);
+                        let d = sim.elem_dofs.of(mp.element)[2 * k + c];
                         if d != NO_DOF {
-                            f[d] += fc * mp.weights[k];
+                            f[d] += fc * nk;
                         }
                     }
                 }
@@ -119,18 +180,19 @@ pub(super) fn constraints(sim: &mut Simulation) -> Result<(), String> {
                 ConstraintGeometry::Point { p } => {
                     let k = factor * young;
                     let mp = locate(sim, con.block, *p, &format!("[[constraint]] #{}", ci + 1))?;
-                    let w = mp.weights;
-                    let mut km = [0.0; 9];
-                    for i in 0..3 {
-                        for j in 0..3 {
-                            km[i * 3 + j] = k * w[i] * w[j];
+                    let w = shapes(sim, mp.element, &mp.weights);
+                    let n = w.len();
+                    let mut km = vec![0.0; n * n];
+                    for i in 0..n {
+                        for j in 0..n {
+                            km[i * n + j] = k * w[i] * w[j];
                         }
                     }
-                    let dofs = [0, 1, 2].map(|kk| cover_dof(sim, mp.element, kk, c));
+                    let dofs = shape_dofs(sim, mp.element, c);
                     sim.penalties.push(Penalty {
                         dofs,
                         k: km,
-                        g: [k * w[0], k * w[1], k * w[2]],
+                        g: w.iter().map(|wi| k * wi).collect(),
                         function,
                     });
                 }
@@ -139,19 +201,10 @@ pub(super) fn constraints(sim: &mut Simulation) -> Result<(), String> {
                     for (e, w1, w2, len) in edge_pieces(sim, con.block, *a, *b)
                         .map_err(|m| format!("[[constraint]] #{}: {m}", ci + 1))?
                     {
-                        // ∫ w_i w_j over the piece, w linear from w1 to w2: L (w1w1/3 + (w1w2+w2w1)/6 + w2w2/3)
-                        let mut km = [0.0; 9];
-                        for i in 0..3 {
-                            for j in 0..3 {
-                                km[i * 3 + j] = p
-                                    * len
-                                    * (w1[i] * w1[j] / 3.0
-                                        + (w1[i] * w2[j] + w2[i] * w1[j]) / 6.0
-                                        + w2[i] * w2[j] / 3.0);
-                            }
-                        }
-                        let g = [0, 1, 2].map(|i| p * len * 0.5 * (w1[i] + w2[i]));
-                        let dofs = [0, 1, 2].map(|kk| cover_dof(sim, e, kk, c));
+                        // ∫ N_i N_j and ∫ N_i over the piece (order 0: w linear from w1 to w2,
+                        // L (w1w1/3 + (w1w2+w2w1)/6 + w2w2/3) and L (w1 + w2)/2)
+                        let (g, km) = piece_integrals(sim, e, &w1, &w2, len, p);
+                        let dofs = shape_dofs(sim, e, c);
                         sim.penalties.push(Penalty {
                             dofs,
                             k: km,

@@ -10,21 +10,21 @@
 
 use super::Penalty;
 use crate::assembly::global;
-use crate::contact::set::{ContactSet, CONTACT_DOFS};
+use crate::contact::set::{ContactRow, ContactSet};
 use crate::cover::basis::NO_DOF;
 use crate::solver::{PiecewiseSystem, SparsePattern, TangentOperator};
 use std::collections::HashMap;
 use std::sync::Arc;
 
 /// A contact coupling: the free unknowns of a contact, sorted, each once, padded with
-/// [`NO_DOF`] (contacts between the same two elements share it).
-pub(crate) type CouplingKey = [usize; CONTACT_DOFS];
+/// [`NO_DOF`] to the contact's length (contacts between the same two elements share it).
+pub(crate) type CouplingKey = ContactRow<usize>;
 
-fn coupling_key(dofs: &[usize; CONTACT_DOFS]) -> CouplingKey {
-    let mut k = *dofs;
+fn coupling_key(dofs: &[usize]) -> CouplingKey {
+    let mut k: CouplingKey = dofs.into();
     k.sort_unstable(); // NO_DOF = usize::MAX sorts last
     let mut w = 0;
-    for r in 0..CONTACT_DOFS {
+    for r in 0..k.len() {
         if k[r] != NO_DOF && (w == 0 || k[w - 1] != k[r]) {
             k[w] = k[r];
             w += 1;
@@ -63,11 +63,14 @@ pub(crate) struct TangentPattern {
     index: HashMap<CouplingKey, u32>,
     /// Slot in `combined` of each slot of `element`.
     map: Vec<u32>,
-    /// Slots of each coupling's entries (CONTACT_DOFS², row-major over its key).
+    /// Slots of each coupling's entries (n², n the unknowns of a contact, row-major over its
+    /// key).
     key_slots: Vec<u32>,
-    /// Slots of each current contact's tangent entries (CONTACT_DOFS², row-major over the
-    /// contact's own unknowns), for the contact list of generation `bound`.
+    /// Slots of each current contact's tangent entries (n², row-major over the contact's
+    /// own unknowns), for the contact list of generation `bound`.
     contact_slots: Vec<u32>,
+    /// Unknowns of a contact (its row length) of the bound contact list.
+    contact_dofs: usize,
     bound: Option<u64>,
 }
 
@@ -82,6 +85,7 @@ impl TangentPattern {
             map: Vec::new(),
             key_slots: Vec::new(),
             contact_slots: Vec::new(),
+            contact_dofs: 0,
             bound: None,
         }
     }
@@ -112,47 +116,49 @@ impl TangentPattern {
             .iter()
             .map(|c| coupling_key(&c.dofs))
             .collect();
+        // every contact of a discretisation has the same number of unknowns
+        let nc = contacts.contact_dofs();
+        let n2 = nc * nc;
         let mut current = keys.clone();
         current.sort_unstable();
         current.dedup();
-        if self.combined.is_none() || current != self.current {
+        if self.combined.is_none() || current != self.current || nc != self.contact_dofs {
             let p = Arc::new(self.pattern_with(&current));
             self.map = embed(&self.element, &p);
-            let n2 = CONTACT_DOFS * CONTACT_DOFS;
             self.key_slots.clear();
             self.key_slots.resize(current.len() * n2, u32::MAX);
             self.index.clear();
             self.index.reserve(current.len());
             for (i, k) in current.iter().enumerate() {
                 global::group_slots(&p, k, &mut self.key_slots[i * n2..(i + 1) * n2]);
-                self.index.insert(*k, i as u32);
+                self.index.insert(k.clone(), i as u32);
             }
             self.current = current;
             self.combined = Some(p);
+            self.contact_dofs = nc;
         }
         // bind: each contact's slots, from its coupling's, in the contact's own order
-        let n2 = CONTACT_DOFS * CONTACT_DOFS;
         self.contact_slots.clear();
         self.contact_slots.resize(keys.len() * n2, u32::MAX);
+        let mut pos: Vec<usize> = vec![usize::MAX; nc];
         for (ci, (c, k)) in contacts.contacts.iter().zip(&keys).enumerate() {
             let g = self.index[k] as usize * n2;
-            let pos: [usize; CONTACT_DOFS] = std::array::from_fn(|i| {
+            for (i, p) in pos.iter_mut().enumerate() {
                 let d = c.dofs[i];
-                if d == NO_DOF {
+                *p = if d == NO_DOF {
                     usize::MAX
                 } else {
                     k.iter().position(|&x| x == d).expect("dof in its key")
-                }
-            });
+                };
+            }
             let out = &mut self.contact_slots[ci * n2..(ci + 1) * n2];
-            for i in 0..CONTACT_DOFS {
+            for i in 0..nc {
                 if pos[i] == usize::MAX {
                     continue;
                 }
-                for j in 0..CONTACT_DOFS {
+                for j in 0..nc {
                     if pos[j] != usize::MAX {
-                        out[i * CONTACT_DOFS + j] =
-                            self.key_slots[g + pos[i] * CONTACT_DOFS + pos[j]];
+                        out[i * nc + j] = self.key_slots[g + pos[i] * nc + pos[j]];
                     }
                 }
             }
@@ -249,9 +255,11 @@ impl TangentOperator for StepSystem<'_> {
         for (k, &slot) in self.tangent.map.iter().enumerate() {
             values[slot as usize] += self.l[k] + self.sigma * self.m[k];
         }
-        let n2 = CONTACT_DOFS * CONTACT_DOFS;
+        let nc = self.contacts.contact_dofs();
+        let n2 = nc * nc;
+        let mut k = vec![0.0; n2];
         for (ci, c) in self.contacts.contacts.iter().enumerate() {
-            if let Some(k) = ContactSet::tangent_block(c, symmetric) {
+            if ContactSet::tangent_block_into(c, symmetric, &mut k) {
                 global::scatter(
                     values,
                     &self.tangent.contact_slots[ci * n2..(ci + 1) * n2],
@@ -288,15 +296,16 @@ impl PiecewiseSystem for StepSystem<'_> {
         w.clear();
         w.extend_from_slice(self.f_ext_abs);
         for (p, &target) in self.penalties.iter().zip(self.targets) {
-            for i in 0..3 {
+            let n = p.dofs.len();
+            for i in 0..n {
                 if p.dofs[i] == NO_DOF {
                     continue;
                 }
                 let mut f = -target * p.g[i];
-                for j in 0..3 {
+                for j in 0..n {
                     let d = p.dofs[j];
                     if d != NO_DOF {
-                        f += p.k[i * 3 + j] * (self.u_n[d] + x[d]);
+                        f += p.k[i * n + j] * (self.u_n[d] + x[d]);
                     }
                 }
                 w[p.dofs[i]] += f.abs();

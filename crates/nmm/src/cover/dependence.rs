@@ -25,13 +25,14 @@
 //! well determine the null space), in cover order on ties: deterministic.
 //!
 //! **Sliver covers.** A cover whose support weight ∫ w_c dΩ is below
-//! [`super::stabilise::TINY_COVER`] h² (a block edge passing close to its node) has higher
-//! terms w_c ξ_c, w_c η_c of almost no norm (∫ (w_c ξ_c)² ≲ weight · (weight/h²)): nearly
-//! dependent, and unstable under Newmark as the constant term is (which the ghost ties hold,
-//! [`super::stabilise`]). Its higher terms are removed first. That does change the space a
-//! little (the element keeps the other covers' linear terms: a linear field stays exact, a
-//! quadratic one is exact in every element with at most one such cover), and it is counted
-//! against the null space, whose remaining dimension the choice above then removes.
+//! [`super::stabilise::TINY_COVER`] h² (a block edge passing close to its node) has terms of
+//! almost no norm; all of them are held by ghost ties ([`super::stabilise`]) that every
+//! quadratic field and every null vector satisfy exactly (its constant term follows the root
+//! element's field, its higher terms the linear extrapolation of the root covers' — the
+//! higher terms of a quadratic field's and of a null vector's representation are affine in
+//! the node position). So the ties change neither the null space nor the quadratic
+//! reproduction, and the unknowns removed for the null space are taken at well-supported
+//! covers (at a sliver's only when there are not enough others).
 
 // index loops over small fixed blocks read as the formulas they implement
 #![allow(clippy::needless_range_loop)]
@@ -48,8 +49,6 @@ pub struct Dependence {
     /// Per block: the dimension of the null space of the raw first-order basis (both
     /// components; 0 for a fixed block).
     pub nullity: Vec<usize>,
-    /// Per block: higher-term unknowns removed at sliver covers (both components).
-    pub sliver_removed: Vec<usize>,
     /// Per block: higher-term unknowns removed for the null space (both components).
     pub dependent_removed: Vec<usize>,
 }
@@ -142,7 +141,6 @@ pub fn kept_terms(d: &Discretisation, fixed: &[bool]) -> Dependence {
     let mut out = Dependence {
         terms: vec![[false; 2]; d.covers.len()],
         nullity: vec![0; nb],
-        sliver_removed: vec![0; nb],
         dependent_removed: vec![0; nb],
     };
     let h2 = d.mesh.h * d.mesh.h;
@@ -224,28 +222,20 @@ pub fn kept_terms(d: &Discretisation, fixed: &[bool]) -> Dependence {
             }
         }
         let tol = 1e-9;
-        out.nullity[b] = 2 * null_space(&rows, np, tol).len();
-        // sliver covers: their higher terms go first
-        let tiny = |c: usize| weights[c] < TINY_COVER * h2;
-        for (&c, cl) in &clusters_of {
-            if tiny(c) {
-                for t in 0..2 {
-                    rows.push(functional(c, t, cl[0]));
-                }
-                out.sliver_removed[b] += 4;
-            } else {
-                out.terms[c] = [true; 2];
-            }
-        }
         let z = null_space(&rows, np, tol);
         let m = z.len();
+        out.nullity[b] = 2 * m;
+        for &c in clusters_of.keys() {
+            out.terms[c] = [true; 2];
+        }
         if m == 0 {
             continue;
         }
-        // candidates' values on the null space
-        let cands: Vec<(usize, usize, Vec<f64>)> = clusters_of
-            .iter()
-            .filter(|(&c, _)| !tiny(c))
+        // candidates' values on the null space: well-supported covers first, then slivers
+        let tiny = |c: usize| weights[c] < TINY_COVER * h2;
+        let cands: Vec<(usize, usize, Vec<f64>)> = [false, true]
+            .into_iter()
+            .flat_map(|sliver| clusters_of.iter().filter(move |(&c, _)| tiny(c) == sliver))
             .flat_map(|(&c, cl)| (0..2).map(move |t| (c, t, cl[0])))
             .map(|(c, t, k)| {
                 let f = functional(c, t, k);
@@ -259,7 +249,10 @@ pub fn kept_terms(d: &Discretisation, fixed: &[bool]) -> Dependence {
         let mut chosen: Vec<Vec<f64>> = Vec::new();
         for _ in 0..m {
             let mut best: Option<(f64, usize, Vec<f64>)> = None;
-            for (i, (_, _, v)) in cands.iter().enumerate() {
+            for (i, (c, _, v)) in cands.iter().enumerate() {
+                if tiny(*c) && best.as_ref().is_some_and(|(bn, _, _)| *bn > 1e-3) {
+                    break; // a well-supported cover determines the rest well enough
+                }
                 let mut r = v.clone();
                 for q in &chosen {
                     let dq: f64 = r.iter().zip(q).map(|(a, b)| a * b).sum();

@@ -15,9 +15,11 @@
 //! u_c ≈ Σ_j λ_j u_{r_j},   λ = barycentric coordinates of c's mesh node in r's triangle,
 //!
 //! with the energy ½ k_g |u_c − Σ_j λ_j u_{r_j}|², k_g = [`GHOST_STIFFNESS`] · E. At order 1
-//! the tie is on c's constant term (its node's displacement) and the extrapolation of the
-//! root's field, u_c0 ≈ Σ_a N_a(λ) U_a (exact for every quadratic field); c's higher terms
-//! are removed ([`super::dependence`]). A linear
+//! c's constant term (its node's displacement) is tied to the extrapolation of the root's
+//! field, u_c0 ≈ Σ_a N_a(λ) U_a, and each higher term to the linear extrapolation of the
+//! root covers' same term, U_cj ≈ Σ_i λ_i U_{r_i j}: every quadratic field satisfies them
+//! (the higher terms of its representation are affine in the node position), and so does
+//! every null vector of the first-order basis ([`super::dependence`]). A linear
 //! displacement field satisfies the tie exactly (the extrapolation of a linear field is the
 //! field), so the tie costs nothing in the patch test: uniform strain states, rigid motions
 //! and everything they verify are unchanged. In a non-uniform field it replaces the sliver's

@@ -63,8 +63,10 @@ pub(crate) struct Penalty {
 }
 
 /// A ghost tie of a tiny cover to the extrapolation of a neighbouring element
-/// ([`crate::cover::stabilise`]): energy ½ Uᵀ k U over its unknowns (the cover's constant
-/// term and the root element's, u_x and u_y of each: 8 at order 0, 20 at order 1).
+/// ([`crate::cover::stabilise`]): energy ½ Uᵀ k U over its unknowns (u_x and u_y of each
+/// term: the cover's constant term and the root's three covers', 8, at order 0; at order 1
+/// one tie of the constant term and the root element's 9 shapes, 20, and one of each higher
+/// term and the root covers' same term, 8).
 #[derive(Debug, Clone)]
 pub(crate) struct Ghost {
     pub dofs: Vec<usize>,
@@ -72,33 +74,52 @@ pub(crate) struct Ghost {
 }
 
 impl Ghost {
-    fn new(
+    /// The ties of one tiny cover (one at order 0, three at order 1).
+    fn ties(
         disc: &Discretisation,
         tie: &crate::cover::stabilise::GhostTie,
         stiffness: f64,
-    ) -> Ghost {
-        // the x unknown and the coefficient of each term of u_c − extrapolation
-        let mut xdofs = vec![disc.covers[tie.cover].dof.unwrap_or(NO_DOF)];
-        let mut a = vec![1.0];
-        match disc.basis {
-            CoverBasis::Constant => {
+    ) -> Vec<Ghost> {
+        let x_dof = |c: usize, term: usize| match (term, disc.covers[c].dof) {
+            (_, None) => NO_DOF,
+            (0, Some(d)) => d,
+            (t, Some(_)) => disc.covers[c].terms.get(t - 1).copied().unwrap_or(NO_DOF),
+        };
+        // each term: u_c,term − its linear extrapolation Σ λ_j u_{r_j},term …
+        let mut out: Vec<Ghost> = (0..disc.basis.terms())
+            .map(|t| {
+                let mut xdofs = vec![x_dof(tie.cover, t)];
+                let mut a = vec![1.0];
                 for j in 0..3 {
-                    xdofs.push(disc.covers[tie.roots[j]].dof.unwrap_or(NO_DOF));
+                    xdofs.push(x_dof(tie.roots[j], t));
                     a.push(-tie.lambda[j]);
                 }
+                Ghost::of_terms(&xdofs, &a, stiffness)
+            })
+            .collect();
+        // … but at order 1 the constant term (the node's displacement) follows the root's
+        // field: exact for every quadratic field
+        if disc.basis != CoverBasis::Constant {
+            let basis = disc.basis;
+            let el = &disc.elements[tie.root];
+            let mut d = [NO_DOF; MAX_ELEMENT_DOFS];
+            basis.element_dofs_into(disc, el, &mut d);
+            let mut n = [0.0; crate::cover::basis::MAX_ELEMENT_SHAPES];
+            basis.shapes(el, &tie.lambda, &mut n);
+            let mut xdofs = vec![x_dof(tie.cover, 0)];
+            let mut a = vec![1.0];
+            for s in 0..basis.element_shapes() {
+                xdofs.push(d[2 * s]);
+                a.push(-n[s]);
             }
-            basis => {
-                let el = &disc.elements[tie.root];
-                let mut d = [NO_DOF; MAX_ELEMENT_DOFS];
-                basis.element_dofs_into(disc, el, &mut d);
-                let mut n = [0.0; crate::cover::basis::MAX_ELEMENT_SHAPES];
-                basis.shapes(el, &tie.lambda, &mut n);
-                for s in 0..basis.element_shapes() {
-                    xdofs.push(d[2 * s]);
-                    a.push(-n[s]);
-                }
-            }
+            out[0] = Ghost::of_terms(&xdofs, &a, stiffness);
         }
+        out
+    }
+
+    /// The tie ½ k |Σ_i a_i u_i|² (both components) over the terms whose x unknowns are
+    /// `xdofs` (y: the next).
+    fn of_terms(xdofs: &[usize], a: &[f64], stiffness: f64) -> Ghost {
         let m = xdofs.len();
         let mut dofs = vec![NO_DOF; 2 * m];
         let mut k = vec![0.0; 4 * m * m];
@@ -409,9 +430,10 @@ impl Simulation {
             .iter()
             .map(|t| {
                 let e = sim.model.materials[sim.model.blocks[t.block].material].young;
-                Ghost::new(&sim.disc, t, crate::cover::stabilise::GHOST_STIFFNESS * e)
+                Ghost::ties(&sim.disc, t, crate::cover::stabilise::GHOST_STIFFNESS * e)
             })
-            .collect();
+            .collect::<Vec<_>>()
+            .concat();
         sim.build_element_pattern();
         Ok(sim)
     }

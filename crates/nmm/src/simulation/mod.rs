@@ -1361,6 +1361,16 @@ impl Simulation {
         None
     }
 
+    /// Add the nodal forces `f` (one per unknown, N per metre of thickness; constant in
+    /// time) to the model's loads: for loads the model file cannot state, such as the exact
+    /// tractions of a verification case integrated against the shape functions.
+    pub fn add_load_vector(&mut self, f: &[f64]) {
+        assert_eq!(f.len(), self.f_load.len(), "one force per unknown");
+        for (a, b) in self.f_load.iter_mut().zip(f) {
+            *a += b;
+        }
+    }
+
     /// The linear part of the next step's system (L, F) on the current state, over the
     /// element pattern: for benchmarks and tests.
     pub fn linear_system(&mut self) -> (SparseMatrix, Vec<f64>) {

@@ -1,0 +1,500 @@
+//! First-order covers (`[cover] order = 1`, issue 16): the basis, its linear dependence and
+//! how it is removed, patch tests, and the cantilever against its closed forms.
+//!
+//! Tolerances, and why each test can fail:
+//! * basis identities (partition of unity, U_k0 = the node's displacement, quadratic
+//!   reproduction): 1e-13 relative — sums of a few O(1) products; a wrong shape or layout
+//!   is O(1) off.
+//! * nullity: eigenvalues of the diagonally scaled matrices below 1e-10 count as zero; the
+//!   exact null vectors give ~1e-15, the nearest regular ones (sliver cuts) stay above 1e-8
+//!   (printed), so the count is robust; a missing or extra removal changes it by ≥ 1.
+//! * patch tests: 1e-10 relative — the exact field is in the approximation space and every
+//!   integral is exact, so only round-off (a condition number of ~1e4 × 1e-16) remains; an
+//!   inexact integral (degree too low) or a wrong tie is ≥ 1e-6 off.
+//! * cantilever: within 0.5% of Timoshenko's 4.024 mm (the acceptance figure); order 0 is
+//!   −47.6%, so an order-1 run that falls back to constant covers fails by 47%.
+
+use nmm::cover::basis::{CoverBasis, ElementDofTable, MAX_ELEMENT_DOFS, MAX_ELEMENT_SHAPES};
+use nmm::cover::{barycentric, discretise_with, Discretisation};
+use nmm::geometry::Vec2;
+use nmm::model::parse_model;
+use nmm::simulation::Simulation;
+use std::path::Path;
+
+fn rotate(poly: &[Vec2], deg: f64, shift: Vec2) -> Vec<Vec2> {
+    let (s, c) = deg.to_radians().sin_cos();
+    poly.iter()
+        .map(|p| {
+            [
+                c * p[0] - s * p[1] + shift[0],
+                s * p[0] + c * p[1] + shift[1],
+            ]
+        })
+        .collect()
+}
+
+/// A pentagon rotated by 13°: every edge cuts the mesh at arbitrary places (cut cells).
+fn cut_block() -> Vec<Vec2> {
+    rotate(
+        &[[0.0, 0.0], [1.2, 0.0], [1.3, 0.7], [0.6, 1.1], [-0.1, 0.6]],
+        13.0,
+        [0.031, 0.017],
+    )
+}
+
+/// A rectangle whose top edge passes 1e-3 h above a mesh line: covers of tiny support
+/// (slivers) along it, held by ghost ties.
+fn sliver_block(h: f64, origin: Vec2) -> Vec<Vec2> {
+    let top = origin[1] + 5.0 * h + 1e-3 * h;
+    let right = origin[0] + 6.0 * h + 2e-3 * h;
+    vec![
+        [origin[0] + 0.37 * h, origin[1] + 0.41 * h],
+        [right, origin[1] + 0.41 * h],
+        [right, top],
+        [origin[0] + 0.37 * h, top],
+    ]
+}
+
+fn disc(poly: Vec<Vec2>, h: f64, basis: CoverBasis) -> Discretisation {
+    discretise_with(&[(poly, false)], h, None, basis).unwrap()
+}
+
+/// The quadratic field q(x) = (q_x, q_y) with coefficients of 1, x, y, x², xy, y².
+#[derive(Clone, Copy)]
+struct Quadratic([[f64; 6]; 2]);
+
+impl Quadratic {
+    fn value(&self, x: Vec2) -> Vec2 {
+        let m = [1.0, x[0], x[1], x[0] * x[0], x[0] * x[1], x[1] * x[1]];
+        self.0.map(|c| (0..6).map(|i| c[i] * m[i]).sum())
+    }
+    /// ∂q_c/∂x_j at x.
+    fn grad(&self, x: Vec2) -> [Vec2; 2] {
+        self.0.map(|c| {
+            [
+                c[1] + 2.0 * c[3] * x[0] + c[4] * x[1],
+                c[2] + c[4] * x[0] + 2.0 * c[5] * x[1],
+            ]
+        })
+    }
+    /// The exact representation in the first-order basis: U_k0 = q(x_k), (U_k1, U_k2) =
+    /// h ∇q(x_k / 2) (then Σ_k w_k u_k(x) = q(x) exactly: see cover/dependence.rs).
+    fn cover_terms(&self, node: Vec2, h: f64) -> [Vec2; 3] {
+        let v = self.value(node);
+        let g = self.grad([0.5 * node[0], 0.5 * node[1]]);
+        [v, [h * g[0][0], h * g[1][0]], [h * g[0][1], h * g[1][1]]]
+    }
+}
+
+/// The global vector of the field's exact representation (terms removed for linear
+/// dependence are set by a null vector to zero: here the solve is not involved, so the
+/// vector is built on the raw numbering `all_terms`).
+fn all_terms(d: &Discretisation) -> Discretisation {
+    let mut raw = d.clone();
+    let mut next = 0;
+    for c in &mut raw.covers {
+        c.dof = Some(next);
+        c.terms = vec![next + 2, next + 4];
+        next += 6;
+    }
+    raw.n_dofs = next;
+    raw
+}
+
+#[test]
+fn partition_of_unity_nodal_values_and_quadratic_reproduction() {
+    let h = 0.3;
+    let d = all_terms(&disc(cut_block(), h, CoverBasis::Linear));
+    let b = d.basis;
+    assert_eq!((b.cover_dofs(), b.element_dofs()), (6, 18));
+    let q = Quadratic([
+        [0.3, -1.0, 2.0, 0.7, -0.4, 1.1],
+        [-0.2, 0.5, 0.25, -0.9, 1.3, 0.6],
+    ]);
+    let mut u = vec![0.0; d.n_dofs];
+    for c in &d.covers {
+        let x = d.mesh.node(c.node);
+        let t = q.cover_terms(x, h);
+        let dofs = [c.dof.unwrap(), c.terms[0], c.terms[1]];
+        for j in 0..3 {
+            u[dofs[j]] = t[j][0];
+            u[dofs[j] + 1] = t[j][1];
+        }
+    }
+    let table = ElementDofTable::new(&d);
+    let mut n = [0.0; MAX_ELEMENT_SHAPES];
+    let mut worst: f64 = 0.0;
+    for (ei, e) in d.elements.iter().enumerate() {
+        let mut ue = [0.0; MAX_ELEMENT_DOFS];
+        for (o, &g) in ue.iter_mut().zip(table.of(ei)) {
+            *o = u[g];
+        }
+        for w in [
+            [0.2, 0.3, 0.5],
+            [0.6, 0.1, 0.3],
+            [1.0 / 3.0; 3],
+            [-0.2, 0.7, 0.5],
+        ] {
+            b.shapes(e, &w, &mut n);
+            // the weights are the constant terms' shapes: they sum to 1
+            let pu: f64 = (0..3).map(|k| n[3 * k]).sum();
+            assert!((pu - 1.0).abs() < 1e-14, "Σ w = {pu}");
+            // quadratic reproduction: Σ_a N_a U_a = q(x)
+            let x = [0, 1].map(|c| (0..3).map(|k| w[k] * e.nodes[k][c]).sum::<f64>());
+            let (got, want) = (b.interpolate(e, &w, &ue[..18]), q.value(x));
+            for c in 0..2 {
+                worst = worst.max((got[c] - want[c]).abs() / (1.0 + want[c].abs()));
+            }
+        }
+        // U_k0 is the displacement at node k: shapes at w = e_k
+        for k in 0..3 {
+            let mut w = [0.0; 3];
+            w[k] = 1.0;
+            let got = b.interpolate(e, &w, &ue[..18]);
+            assert_eq!(got, [ue[6 * k], ue[6 * k + 1]], "element {ei} node {k}");
+            b.shapes(e, &w, &mut n);
+            for (a, &na) in n[..9].iter().enumerate() {
+                assert_eq!(na, if a == 3 * k { 1.0 } else { 0.0 });
+            }
+        }
+    }
+    assert!(worst < 1e-13, "quadratic reproduction off by {worst:e}");
+}
+
+/// Eigenvalues of a symmetric matrix (cyclic Jacobi).
+fn eigenvalues(mut a: Vec<Vec<f64>>) -> Vec<f64> {
+    let n = a.len();
+    for _sweep in 0..60 {
+        let off: f64 = (0..n)
+            .flat_map(|i| (0..n).filter(move |&j| j != i).map(move |j| (i, j)))
+            .map(|(i, j)| a[i][j] * a[i][j])
+            .sum();
+        if off < 1e-30 {
+            break;
+        }
+        for p in 0..n {
+            for q in p + 1..n {
+                if a[p][q].abs() < 1e-300 {
+                    continue;
+                }
+                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+                let t = if theta == 0.0 { 1.0 } else { t };
+                let c = 1.0 / (t * t + 1.0).sqrt();
+                let s = t * c;
+                for k in 0..n {
+                    let (akp, akq) = (a[k][p], a[k][q]);
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for k in 0..n {
+                    let (apk, aqk) = (a[p][k], a[q][k]);
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+            }
+        }
+    }
+    let mut e: Vec<f64> = (0..n).map(|i| a[i][i]).collect();
+    e.sort_by(f64::total_cmp);
+    e
+}
+
+/// Dense stiffness and mass of a discretisation (the basis's element records).
+fn dense_k_m(d: &Discretisation) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+    let b = d.basis;
+    let (nd, n) = (b.element_dofs(), d.n_dofs);
+    let dm = nmm::material::elasticity_matrix(1.0e9, 0.25, nmm::model::Plane::Strain);
+    let table = ElementDofTable::new(d);
+    let (mut k, mut m) = (vec![vec![0.0; n]; n], vec![vec![0.0; n]; n]);
+    let mut rec = vec![0.0; b.record_len()];
+    for (ei, e) in d.elements.iter().enumerate() {
+        let area = nmm::geometry::moments::polygon_area(&e.polygon);
+        b.element_local(e, 1000.0, area, &dm, &[[0.0; 3]; 3], &mut rec);
+        let dofs = table.of(ei);
+        for i in 0..nd {
+            for j in 0..nd {
+                if dofs[i] != usize::MAX && dofs[j] != usize::MAX {
+                    k[dofs[i]][dofs[j]] += rec[i * nd + j];
+                    m[dofs[i]][dofs[j]] += rec[nd * nd + i * nd + j];
+                }
+            }
+        }
+    }
+    (k, m)
+}
+
+/// Eigenvalues of D^{-1/2} A D^{-1/2} (D = diag A) below 1e-10, and the smallest above.
+fn nullity(a: &[Vec<f64>]) -> (usize, f64) {
+    let s: Vec<f64> = (0..a.len()).map(|i| 1.0 / a[i][i].sqrt()).collect();
+    let scaled = (0..a.len())
+        .map(|i| (0..a.len()).map(|j| a[i][j] * s[i] * s[j]).collect())
+        .collect();
+    let e = eigenvalues(scaled);
+    let zero = e.iter().filter(|&&x| x < 1e-10).count();
+    (zero, e.get(zero).copied().unwrap_or(f64::NAN))
+}
+
+#[test]
+fn linear_dependence_is_six_per_block_and_removed() {
+    let h = 0.25;
+    let mesh_origin = [-0.125, -0.125];
+    let cases: Vec<(&str, Vec<Vec2>, f64)> = vec![
+        (
+            "block",
+            vec![[0.0, 0.0], [1.0, 0.0], [1.0, 0.75], [0.0, 0.75]],
+            h,
+        ),
+        ("cut block", cut_block(), 0.3),
+        ("sliver block", sliver_block(h, mesh_origin), h),
+    ];
+    for (name, poly, h) in cases {
+        let d = if name == "sliver block" {
+            let bb = nmm::geometry::Aabb::of_points(&poly);
+            let mesh =
+                nmm::cover::MathMesh::covering_through(&bb, h, 1 << 20, Some(mesh_origin)).unwrap();
+            nmm::cover::discretise_on_mesh_with(&[(poly, false)], mesh, CoverBasis::Linear).unwrap()
+        } else {
+            disc(poly, h, CoverBasis::Linear)
+        };
+        let dep = nmm::cover::dependence::kept_terms(&d, &[false]);
+        let raw = all_terms(&d);
+        let (k0, m0) = dense_k_m(&raw);
+        let (k1, m1) = dense_k_m(&d);
+        let ((nk0, _), (nm0, _)) = (nullity(&k0), nullity(&m0));
+        let ((nk1, lk1), (nm1, lm1)) = (nullity(&k1), nullity(&m1));
+        let slivers = nmm::cover::stabilise::ghost_ties(&d).len();
+        eprintln!(
+            "{name}: {} covers ({slivers} slivers), {} unknowns raw, {} kept; nullity of M {nm0} -> {nm1} \
+             (smallest scaled eigenvalue after {lm1:.1e}), of K {nk0} -> {nk1} (next {lk1:.1e})",
+            d.covers.len(),
+            raw.n_dofs,
+            d.n_dofs
+        );
+        if name == "sliver block" {
+            assert!(slivers > 0, "the sliver block has sliver covers");
+        }
+        // the raw basis: 3 null vectors per component; K has the 3 rigid modes besides
+        assert_eq!((nm0, nk0), (6, 9), "{name} raw");
+        assert_eq!(dep.nullity, vec![6], "{name}: the predicted null space");
+        assert_eq!(raw.n_dofs - d.n_dofs, 6, "{name}: six unknowns removed");
+        // after: the mass is regular, the stiffness keeps only the rigid modes
+        assert_eq!((nm1, nk1), (0, 3), "{name} after");
+    }
+}
+
+fn material(e: f64, nu: f64, rho: f64, plane: &str) -> String {
+    format!(
+        "[[material]]\nname = \"m\"\ndensity = {rho:?}\nyoung = {e:?}\npoisson = {nu:?}\nplane = \"{plane}\"\n"
+    )
+}
+
+fn points(p: &[Vec2]) -> String {
+    let v: Vec<String> = p
+        .iter()
+        .map(|x| format!("[{:?}, {:?}]", x[0], x[1]))
+        .collect();
+    format!("[{}]", v.join(", "))
+}
+
+/// Nodal forces of a boundary traction t(x, n) on block 0 of `sim` (on its initial
+/// geometry), integrated against the shape functions by 5-point Gauss–Legendre (exact to
+/// degree 9: a quadratic shape times a traction of degree ≤ 7).
+fn traction_vector(sim: &Simulation, t: impl Fn(Vec2, Vec2) -> Vec2) -> Vec<f64> {
+    const GL5: [(f64, f64); 5] = [
+        (0.046_910_077_030_668, 0.118_463_442_528_095),
+        (0.230_765_344_947_158, 0.239_314_335_249_683),
+        (0.5, 0.284_444_444_444_444_4),
+        (0.769_234_655_052_842, 0.239_314_335_249_683),
+        (0.953_089_922_969_332, 0.118_463_442_528_095),
+    ];
+    let d = &sim.disc;
+    let b = d.basis;
+    let table = ElementDofTable::new(d);
+    let mut f = vec![0.0; d.n_dofs];
+    let bd = &d.boundaries[0];
+    let m = bd.vertices.len();
+    let mut n = [0.0; MAX_ELEMENT_SHAPES];
+    for i in 0..m {
+        let (pa, pb) = (bd.vertices[i].x0, bd.vertices[(i + 1) % m].x0);
+        let e = &d.elements[bd.segment_elements[i]];
+        let dofs = table.of(bd.segment_elements[i]);
+        let len = ((pb[0] - pa[0]).powi(2) + (pb[1] - pa[1]).powi(2)).sqrt();
+        let normal = [(pb[1] - pa[1]) / len, -(pb[0] - pa[0]) / len];
+        for (s, wq) in GL5 {
+            let x = [pa[0] + s * (pb[0] - pa[0]), pa[1] + s * (pb[1] - pa[1])];
+            let w = barycentric(&e.nodes, x);
+            b.shapes(e, &w, &mut n);
+            let tv = t(x, normal);
+            for a in 0..b.element_shapes() {
+                for c in 0..2 {
+                    if dofs[2 * a + c] != usize::MAX {
+                        f[dofs[2 * a + c]] += len * wq * n[a] * tv[c];
+                    }
+                }
+            }
+        }
+    }
+    f
+}
+
+/// Material points at every element vertex and centroid of the initial geometry.
+fn probes(d: &Discretisation) -> Vec<(usize, [f64; 3], Vec2)> {
+    let mut out = Vec::new();
+    for (ei, e) in d.elements.iter().enumerate() {
+        let c = nmm::geometry::moments::polygon_moments(&e.polygon, e.polygon[0]).centroid();
+        for x in e.polygon.iter().copied().chain([c]) {
+            out.push((ei, e.weights(x), x));
+        }
+    }
+    out
+}
+
+/// A static patch test on block `poly`: displacement field `u` with stress `sigma(x)` and
+/// body force per mass `g` (as gravity), exact tractions on the whole boundary, the rigid
+/// modes held at two vertices by point springs with the exact values. Returns the largest
+/// displacement error at the probes relative to the largest displacement.
+fn patch_error(
+    poly: &[Vec2],
+    h: f64,
+    order: usize,
+    u: impl Fn(Vec2) -> Vec2,
+    sigma: impl Fn(Vec2) -> [f64; 3],
+    g: Vec2,
+) -> f64 {
+    let (pa, pb) = (poly[0], poly[1]);
+    let (ua, ub) = (u(pa), u(pb));
+    let text = format!(
+        "[analysis]\nmode = \"static\"\ndt = 1.0\nsteps = 1\ngravity = [{:?}, {:?}]\nconstraint_penalty = 100.0\n\
+         [cover]\nsize = {h:?}\norder = {order}\n{}\
+         [[block]]\nname = \"b\"\nmaterial = \"m\"\nvertices = {}\n\
+         [[constraint]]\nblock = \"b\"\npoint = {}\nux = {:?}\nuy = {:?}\n\
+         [[constraint]]\nblock = \"b\"\npoint = {}\nuy = {:?}\n",
+        g[0],
+        g[1],
+        material(1.0e9, 0.25, 2000.0, "strain"),
+        points(poly),
+        points(&[pa])[1..points(&[pa]).len() - 1].to_string(),
+        ua[0],
+        ua[1],
+        points(&[pb])[1..points(&[pb]).len() - 1].to_string(),
+        ub[1],
+    );
+    let model = parse_model(&text, Path::new(".")).unwrap();
+    let mut sim = Simulation::new(model).unwrap();
+    let f = traction_vector(&sim, |x, n| {
+        let s = sigma(x);
+        [s[0] * n[0] + s[2] * n[1], s[2] * n[0] + s[1] * n[1]]
+    });
+    sim.add_load_vector(&f);
+    let pr = probes(&sim.disc);
+    let d0 = sim.disc.clone();
+    sim.advance().unwrap();
+    let (mut err, mut umax): (f64, f64) = (0.0, 0.0);
+    for (e, w, x) in pr {
+        let got = d0.displacement_at(
+            &nmm::cover::MaterialPoint {
+                element: e,
+                weights: w,
+            },
+            &sim.u,
+        );
+        let want = u(x);
+        for c in 0..2 {
+            err = err.max((got[c] - want[c]).abs());
+            umax = umax.max(want[c].abs());
+        }
+    }
+    err / umax
+}
+
+/// Plane strain, E = 1 GPa, ν = 0.25: σ = D ε.
+fn hooke(eps: [f64; 3]) -> [f64; 3] {
+    let d = nmm::material::elasticity_matrix(1.0e9, 0.25, nmm::model::Plane::Strain);
+    nmm::material::stress(&d, eps)
+}
+
+#[test]
+fn patch_tests_linear_at_orders_0_and_1_quadratic_at_order_1() {
+    let grad = [[2e-4, -1e-4], [0.5e-4, -3e-4]];
+    let lin = move |x: Vec2| {
+        [
+            1e-4 + grad[0][0] * x[0] + grad[0][1] * x[1],
+            -2e-4 + grad[1][0] * x[0] + grad[1][1] * x[1],
+        ]
+    };
+    let lin_sigma = move |_: Vec2| hooke([grad[0][0], grad[1][1], grad[0][1] + grad[1][0]]);
+    let q = Quadratic([
+        [1e-4, 2e-4, -1e-4, 3e-4, -2e-4, 1e-4],
+        [-1e-4, 0.5e-4, 1e-4, -1e-4, 2.5e-4, -2e-4],
+    ]);
+    let qs = move |x: Vec2| {
+        let g = q.grad(x);
+        hooke([g[0][0], g[1][1], g[0][1] + g[1][0]])
+    };
+    // div σ is constant: from the stress at two points per direction
+    let div = {
+        let (s0, sx, sy) = (qs([0.0, 0.0]), qs([1.0, 0.0]), qs([0.0, 1.0]));
+        [sx[0] - s0[0] + sy[2] - s0[2], sx[2] - s0[2] + sy[1] - s0[1]]
+    };
+    let g = [-div[0] / 2000.0, -div[1] / 2000.0];
+    let mesh_origin = [-0.125, -0.125];
+    for (name, poly, h) in [
+        ("rotated cut block", cut_block(), 0.23),
+        ("rotated cut block, fine", cut_block(), 0.11),
+        ("sliver block", sliver_block(0.25, mesh_origin), 0.25),
+    ] {
+        for order in [0, 1] {
+            let e = patch_error(&poly, h, order, lin, lin_sigma, [0.0, 0.0]);
+            eprintln!("{name} h {h}: linear field at order {order}: error {e:.1e}");
+            assert!(e < 1e-10, "{name} order {order}: {e:e}");
+        }
+        let e = patch_error(&poly, h, 1, |x| q.value(x), qs, g);
+        eprintln!("{name} h {h}: quadratic field with its body force at order 1: error {e:.1e}");
+        assert!(e < 1e-10, "{name} quadratic: {e:e}");
+        // and order 0 cannot: the test discriminates
+        let e0 = patch_error(&poly, h, 0, |x| q.value(x), qs, g);
+        eprintln!("   (order 0: {e0:.1e})");
+        assert!(e0 > 1e-4);
+    }
+}
+
+/// The cantilever of the issue: 10 m × 1 m, E 1 GPa, ν 0, plane stress, left edge held by
+/// edge springs, 1 kN of shear on the free end; Timoshenko's tip deflection 4.024 mm.
+fn cantilever_tip(h: f64, order: usize) -> (f64, usize) {
+    let text = format!(
+        "[analysis]\nmode = \"static\"\ndt = 1.0\nsteps = 1\n[cover]\nsize = {h:?}\norder = {order}\n{}\
+         [[block]]\nname = \"beam\"\nmaterial = \"m\"\nvertices = [[0.0, 0.0], [10.0, 0.0], [10.0, 1.0], [0.0, 1.0]]\n\
+         [[load]]\nblock = \"beam\"\nedge = [[10.0, 0.0], [10.0, 1.0]]\ntraction = [0.0, -1000.0]\n\
+         [[constraint]]\nblock = \"beam\"\nedge = [[0.0, 0.0], [0.0, 1.0]]\nux = 0.0\nuy = 0.0\n\
+         [[monitor]]\nname = \"tip\"\npoint = [10.0, 0.5]\n",
+        material(1.0e9, 0.0, 1000.0, "stress")
+    );
+    let model = parse_model(&text, Path::new(".")).unwrap();
+    let mut sim = Simulation::new(model).unwrap();
+    let n = sim.n_dofs();
+    sim.advance().unwrap();
+    let tip = nmm::simulation::monitor_values(&sim)[1];
+    (tip, n)
+}
+
+#[test]
+fn cantilever_at_half_depth_cover_within_half_a_percent() {
+    let exact = -4.024e-3;
+    let (t1, n1) = cantilever_tip(0.5, 1);
+    let (t0, n0) = cantilever_tip(0.5, 0);
+    let (e1, e0) = (t1 / exact - 1.0, t0 / exact - 1.0);
+    eprintln!(
+        "cantilever h = d/2: order 1 {:.4} mm ({:+.2}%, {n1} unknowns); order 0 {:.4} mm ({:+.1}%, {n0} unknowns)",
+        t1 * 1e3,
+        100.0 * e1,
+        t0 * 1e3,
+        100.0 * e0
+    );
+    assert!(e1.abs() < 0.005, "order 1: {:+.3}%", 100.0 * e1);
+    assert_eq!((n0, n1), (172, 510));
+    assert!(
+        (e0 + 0.476).abs() < 0.005,
+        "order 0 as the issue measured: {e0}"
+    );
+}

@@ -690,3 +690,84 @@ fn goodier_cantilever_converges_at_the_rates_of_quadratic_fields() {
         eprintln!("   (order 0, h = {h}: {n} unknowns, L2 error {l2:.3e}, energy error {en:.3e})");
     }
 }
+
+/// `nmm run` of the shipped example `name` with `[cover] order = 1` added; its history as
+/// (header, rows).
+fn run_example_order_1(name: &str) -> (Vec<String>, Vec<Vec<f64>>) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let text = std::fs::read_to_string(root.join(name)).unwrap();
+    assert!(text.contains("[cover]\n"), "{name} has a [cover] table");
+    let text = text.replacen("[cover]\n", "[cover]\norder = 1\n", 1);
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join(name);
+    std::fs::write(&model, text).unwrap();
+    let out = dir.path().join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_nmm"))
+        .args([
+            "run",
+            model.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .args(["--no-vtk", "--quiet"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let hist = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let mut lines = hist.lines();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| {
+            l.split(',')
+                .map(|x| x.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect();
+    (header, rows)
+}
+
+fn col(h: &[String], rows: &[Vec<f64>], name: &str) -> Vec<f64> {
+    let k = h.iter().position(|x| x == name).unwrap();
+    rows.iter().map(|r| r[k]).collect()
+}
+
+/// The incline example at order 1: slip ½ g (sin θ − cos θ tan φ) t² within 0.1% (the
+/// acceptance; measured 0.001%, as at order 0: the block slides as a rigid body).
+#[test]
+fn incline_at_order_1_slides_as_the_closed_form() {
+    let (h, rows) = run_example_order_1("incline.toml");
+    let (s, c) = 30f64.to_radians().sin_cos();
+    let t = *col(&h, &rows, "time").last().unwrap();
+    let ux = *col(&h, &rows, "c.ux").last().unwrap();
+    let uy = *col(&h, &rows, "c.uy").last().unwrap();
+    let slip = ux * c - uy * s;
+    let exact = 0.5 * 9.81 * (s - c * 20f64.to_radians().tan()) * t * t;
+    eprintln!(
+        "incline, order 1: slip {slip:.6} m vs {exact:.6} m ({:+.4}%)",
+        100.0 * (slip / exact - 1.0)
+    );
+    assert!((slip / exact - 1.0).abs() < 1e-3);
+}
+
+/// The paper's direct shear at order 1: the joint's shear stress never above the strength
+/// 577.35 kPa (× 1.001) and at it within 0.1% once the whole joint slides. The upper block
+/// is more flexible at order 1 than with constant covers (which are too stiff), so the
+/// first two 0.06 mm steps go partly into its elastic shear (measured 441 and 569 kPa;
+/// order 0: 495 and 577.3) and the joint slides from the third step on.
+#[test]
+fn direct_shear_at_order_1_stays_at_the_strength() {
+    let strength = 1.0e6 * 30f64.to_radians().tan();
+    let (h, rows) = run_example_order_1("direct_shear.toml");
+    let tau: Vec<f64> = col(&h, &rows, "joint.fx")
+        .iter()
+        .map(|f| -f / 0.1)
+        .collect();
+    eprintln!("direct shear, order 1: τ {tau:?} Pa (strength {strength:.1})");
+    assert_eq!(tau.len(), 5);
+    for t in &tau {
+        assert!(*t <= strength * 1.001, "{t} above {strength}");
+    }
+    for t in &tau[2..] {
+        assert!((t / strength - 1.0).abs() < 1e-3, "{t} vs {strength}");
+    }
+}

@@ -266,9 +266,20 @@ fn polygon_faces(corner: &[bool]) -> Vec<(usize, usize)> {
 
 /// Tributary length of vertex `i` of the closed polyline `a` on the segment of `b` with
 /// origin `p0`, unit direction `t` and outward normal `n`, whose polygon edge spans
-/// `[s_lo, s_hi]` in the coordinate s = (x − p0)·t: half of each adjacent segment that
-/// faces the segment (outward normals opposed), projected on t and clipped to the edge.
-fn tributary(a: &[Vec2], i: usize, p0: Vec2, t: Vec2, n: Vec2, s_lo: f64, s_hi: f64) -> f64 {
+/// `[s_lo, s_hi]` in the coordinate s = (x − p0)·t: the fraction `share` (½: the trapezoidal
+/// rule; ⅓ at a segment's end and ⅔ at its midpoint: Simpson's) of each adjacent segment
+/// that faces the segment (outward normals opposed), projected on t and clipped to the edge.
+#[allow(clippy::too_many_arguments)]
+fn tributary(
+    a: &[Vec2],
+    i: usize,
+    share: f64,
+    p0: Vec2,
+    t: Vec2,
+    n: Vec2,
+    s_lo: f64,
+    s_hi: f64,
+) -> f64 {
     let m = a.len();
     let p = a[i];
     let sp = dot(sub(p, p0), t);
@@ -285,7 +296,7 @@ fn tributary(a: &[Vec2], i: usize, p0: Vec2, t: Vec2, n: Vec2, s_lo: f64, s_hi: 
         if dot(ns, n) >= 0.0 {
             continue;
         }
-        let half = 0.5 * dot(sub(q, p), t);
+        let half = share * dot(sub(q, p), t);
         let (lo, hi) = if half < 0.0 {
             (sp + half, sp)
         } else {
@@ -320,17 +331,24 @@ impl ContactSet {
         let basis = disc.basis;
         let ne = basis.element_dofs();
         self.row_len = 2 * ne;
+        let has_midpoints = disc
+            .boundaries
+            .iter()
+            .any(|b| b.vertices.iter().any(|v| v.midpoint));
         if model.blocks.len() < 2 {
             return;
         }
         if self.faces.len() != disc.boundaries.len() {
+            // s̄: the mean segment length of the refined boundaries (midpoints, the quadrature
+            // points of first-order covers, do not count: the interface is as stiff as at
+            // order 0)
             let (mut len, mut count) = (0.0, 0usize);
             for b in &disc.boundaries {
                 let m = b.vertices.len();
                 for i in 0..m {
                     len += crate::geometry::dist(b.vertices[i].x0, b.vertices[(i + 1) % m].x0);
                 }
-                count += m;
+                count += b.vertices.iter().filter(|v| !v.midpoint).count();
             }
             self.spacing = len / count.max(1) as f64;
             self.faces = disc
@@ -408,9 +426,18 @@ impl ContactSet {
                     let (f0, f1) = self.faces[pb][ve.segment];
                     let s_lo = dot(sub(pb_poly[f0], p0), ve.tangent);
                     let s_hi = dot(sub(pb_poly[f1], p0), ve.tangent);
+                    let share = match (
+                        has_midpoints,
+                        disc.boundaries[pa].vertices[ve.vertex].midpoint,
+                    ) {
+                        (false, _) => 0.5,
+                        (true, false) => 1.0 / 3.0,
+                        (true, true) => 2.0 / 3.0,
+                    };
                     let lambda = tributary(
                         &polys[pa],
                         ve.vertex,
+                        share,
                         p0,
                         ve.tangent,
                         ve.normal,

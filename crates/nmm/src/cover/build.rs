@@ -153,6 +153,11 @@ pub fn discretise_on_mesh_with(
     for (b, (poly, _)) in blocks.iter().enumerate() {
         build_block(&mut d, &clipper, b, poly)?;
     }
+    if basis != CoverBasis::Constant {
+        for bd in &mut d.boundaries {
+            *bd = with_midpoints(&d.elements, bd);
+        }
+    }
     // Dof numbering: covers are already block by block, node by node; at order 1 less the
     // higher terms removed for linear dependence.
     let fixed: Vec<bool> = blocks.iter().map(|b| b.1).collect();
@@ -177,6 +182,37 @@ pub fn discretise_on_mesh_with(
     }
     d.n_dofs = next;
     Ok(d)
+}
+
+/// The boundary with the midpoint of every segment inserted (each half in the segment's
+/// element and on its polygon edge): the contact quadrature points of first-order covers.
+fn with_midpoints(elements: &[ManifoldElement], bd: &BlockBoundary) -> BlockBoundary {
+    let m = bd.vertices.len();
+    let mut out = BlockBoundary {
+        vertices: Vec::with_capacity(2 * m),
+        segment_elements: Vec::with_capacity(2 * m),
+        segment_edges: Vec::with_capacity(2 * m),
+    };
+    for i in 0..m {
+        let (v, next) = (bd.vertices[i], bd.vertices[(i + 1) % m]);
+        let e = bd.segment_elements[i];
+        let x = crate::geometry::lerp(v.x0, next.x0, 0.5);
+        out.vertices.push(v);
+        out.vertices.push(BoundaryVertex {
+            x0: x,
+            at: MaterialPoint {
+                element: e,
+                weights: barycentric(&elements[e].nodes, x),
+            },
+            corner: false,
+            midpoint: true,
+        });
+        for _ in 0..2 {
+            out.segment_elements.push(e);
+            out.segment_edges.push(bd.segment_edges[i]);
+        }
+    }
+    out
 }
 
 /// Checks that a block is a CCW simple polygon with finite coordinates.
@@ -758,6 +794,7 @@ fn refine_boundary(
                 weights: barycentric(&d.elements[e].nodes, x),
             },
             corner,
+            midpoint: false,
         });
     }
     let m = pts.len();

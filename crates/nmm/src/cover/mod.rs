@@ -114,6 +114,10 @@ pub struct BoundaryVertex {
     pub at: MaterialPoint,
     /// Whether this vertex is a corner of the block polygon (not a refinement point).
     pub corner: bool,
+    /// Whether this vertex is the midpoint of a refined segment (first-order covers: the
+    /// contacts integrate the interface by Simpson's rule, exact for their quadratic shape
+    /// functions; see `contact/set.rs`).
+    pub midpoint: bool,
 }
 
 /// A block's boundary: CCW loop of refined vertices; segment i goes from vertex i

@@ -899,7 +899,7 @@ mod tests {
         ];
         let (p0, t, n) = ([-1.0, 0.0], [1.0, 0.0], [0.0, 1.0]);
         let w: Vec<f64> = (0..4)
-            .map(|i| tributary(&a, i, p0, t, n, -10.0, 10.0))
+            .map(|i| tributary(&a, i, 0.5, p0, t, n, -10.0, 10.0))
             .collect();
         // trapezoidal weights: half of each adjacent bottom segment; the sides face away
         let want = [0.15, 0.35, 0.35, 0.15];
@@ -909,13 +909,13 @@ mod tests {
         assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-15);
         // clipped to B's edge x ∈ [−1, 0.4] (s ∈ [0, 1.4]): vertex 1 keeps 0.1 of its
         // right half, vertex 2 nothing
-        let c = tributary(&a, 1, p0, t, n, 0.0, 1.4);
+        let c = tributary(&a, 1, 0.5, p0, t, n, 0.0, 1.4);
         assert!((c - 0.25).abs() < 1e-15, "{c}");
-        assert_eq!(tributary(&a, 2, p0, t, n, 0.0, 1.4), 0.0);
+        assert_eq!(tributary(&a, 2, 0.5, p0, t, n, 0.0, 1.4), 0.0);
         // a corner of a square rotated 45° touching a horizontal face: both halves project
         let s = std::f64::consts::FRAC_1_SQRT_2;
         let d = [[0.0, 0.0], [s, s], [0.0, 2.0 * s], [-s, s]];
-        let c = tributary(&d, 0, p0, t, n, -10.0, 10.0);
+        let c = tributary(&d, 0, 0.5, p0, t, n, -10.0, 10.0);
         assert!((c - s).abs() < 1e-15, "{c}");
     }
 }

@@ -835,3 +835,70 @@ fn order_1_checkpoints_are_exact() {
         .unwrap();
     eprintln!("order-1 shaken slope: slider.ux {ux:e} m after 0.15 s");
 }
+
+/// Unknowns, nonzeros per row of the element pattern and wall time per step (ms, the
+/// median of `reps` alternations of `steps` steps; one thread) of a model.
+fn cost(text: &str, steps: usize, reps: usize) -> (usize, f64, f64) {
+    let mut times = Vec::new();
+    let mut out = (0, 0.0);
+    for _ in 0..reps {
+        let model = parse_model(text, Path::new(".")).unwrap();
+        let mut sim = Simulation::new(model).unwrap();
+        sim.set_threads(nmm::parallel::Threads::new(1).unwrap());
+        let (l, _) = sim.linear_system();
+        out = (sim.n_dofs(), l.pattern.nnz() as f64 / sim.n_dofs() as f64);
+        sim.advance().unwrap(); // the first step: symbolic analyses, first contacts
+        let t0 = std::time::Instant::now();
+        for _ in 0..steps {
+            sim.advance().unwrap();
+        }
+        times.push(t0.elapsed().as_secs_f64() * 1e3 / steps as f64);
+    }
+    times.sort_by(f64::total_cmp);
+    (out.0, out.1, times[times.len() / 2])
+}
+
+/// The cost of order 1 against order 0 (a benchmark for the note, not a check: run with
+/// `cargo test --release --test first_order_covers cost -- --ignored --nocapture`): the
+/// cantilever at equal accuracy (order 1 at h = d/2 against order 0 refined until it is as
+/// accurate) and the 20×20 wall at equal h (dynamic, contacts).
+#[test]
+#[ignore]
+fn cost_of_order_1() {
+    let cant = |h: f64, order: usize| {
+        format!(
+            "[analysis]\nmode = \"dynamic\"\ndt = 0.001\nsteps = 100\n[cover]\nsize = {h:?}\norder = {order}\n{}\
+             [[block]]\nname = \"beam\"\nmaterial = \"m\"\nvertices = [[0.0, 0.0], [10.0, 0.0], [10.0, 1.0], [0.0, 1.0]]\n\
+             [[load]]\nblock = \"beam\"\nedge = [[10.0, 0.0], [10.0, 1.0]]\ntraction = [0.0, -1000.0]\n\
+             [[constraint]]\nblock = \"beam\"\nedge = [[0.0, 0.0], [0.0, 1.0]]\nux = 0.0\nuy = 0.0\n",
+            material(1.0e9, 0.0, 1000.0, "stress")
+        )
+    };
+    eprintln!("| model | order | h | unknowns | nonzeros/row | ms/step | tip error |");
+    eprintln!("|---|---|---|---|---|---|---|");
+    for (h, order) in [
+        (0.5, 1),
+        (0.25, 1),
+        (0.0625, 0),
+        (0.03125, 0),
+        (0.015625, 0),
+    ] {
+        let (n, nnz, ms) = cost(&cant(h, order), 5, 3);
+        let (tip, _) = cantilever_tip(h, order);
+        eprintln!(
+            "| cantilever | {order} | {h} | {n} | {nnz:.1} | {ms:.2} | {:+.2}% |",
+            100.0 * (tip / -4.024e-3 - 1.0)
+        );
+    }
+    for order in [0, 1] {
+        let mut o = nmm::generate::WallOptions::new(20, 20);
+        o.steps = 100;
+        let text = nmm::generate::brick_wall_model(&o).replacen(
+            "[cover]\n",
+            &format!("[cover]\norder = {order}\n"),
+            1,
+        );
+        let (n, nnz, ms) = cost(&text, 10, 3);
+        eprintln!("| wall 20×20 | {order} | 0.2 | {n} | {nnz:.1} | {ms:.1} | |");
+    }
+}

@@ -110,31 +110,72 @@ pub struct Contact {
     pub joint: Option<usize>,
 }
 
+/// (a + b_N · v, b_S · v) over a contact's rows.
+#[inline(always)]
+fn row_products(a: f64, dofs: &[usize], bn: &[f64], bs: &[f64], v: &[f64]) -> (f64, f64) {
+    let (mut gn, mut gs) = (a, 0.0);
+    for ((&d, bn), bs) in dofs.iter().zip(bn).zip(bs) {
+        if d != NO_DOF {
+            gn += bn * v[d];
+            gs += bs * v[d];
+        }
+    }
+    (gn, gs)
+}
+
+/// y[d_i] += b_N,i t_N + b_S,i t_S over a contact's rows.
+#[inline(always)]
+fn row_scatter(dofs: &[usize], bn: &[f64], bs: &[f64], tn: f64, ts: f64, y: &mut [f64]) {
+    for ((&d, bn), bs) in dofs.iter().zip(bn).zip(bs) {
+        if d != NO_DOF {
+            y[d] += bn * tn + bs * ts;
+        }
+    }
+}
+
 impl Contact {
+    /// The rows as arrays of the constant basis's length (its loops then have a length the
+    /// compiler knows), or `None` for another basis.
+    #[inline(always)]
+    fn fixed_rows(
+        &self,
+    ) -> Option<(
+        &[usize; CONTACT_DOFS],
+        &[f64; CONTACT_DOFS],
+        &[f64; CONTACT_DOFS],
+    )> {
+        Some((
+            self.dofs[..].try_into().ok()?,
+            self.bn[..].try_into().ok()?,
+            self.bs[..].try_into().ok()?,
+        ))
+    }
+
     /// (g_N, Δg_S) at the increment `du`.
     #[inline]
     pub fn gaps(&self, du: &[f64]) -> (f64, f64) {
-        let (mut gn, mut gs) = (self.gn0, 0.0);
-        for ((&d, bn), bs) in self.dofs.iter().zip(&self.bn).zip(&self.bs) {
-            if d != NO_DOF {
-                gn += bn * du[d];
-                gs += bs * du[d];
-            }
+        match self.fixed_rows() {
+            Some((d, bn, bs)) => row_products(self.gn0, d, bn, bs, du),
+            None => row_products(self.gn0, &self.dofs, &self.bn, &self.bs, du),
         }
-        (gn, gs)
     }
 
     /// (b_N · v, b_S · v) for a direction v.
     #[inline]
     fn rates(&self, v: &[f64]) -> (f64, f64) {
-        let (mut a, mut b) = (0.0, 0.0);
-        for ((&d, bn), bs) in self.dofs.iter().zip(&self.bn).zip(&self.bs) {
-            if d != NO_DOF {
-                a += bn * v[d];
-                b += bs * v[d];
-            }
+        match self.fixed_rows() {
+            Some((d, bn, bs)) => row_products(0.0, d, bn, bs, v),
+            None => row_products(0.0, &self.dofs, &self.bn, &self.bs, v),
         }
-        (a, b)
+    }
+
+    /// y += b_N t_N + b_S t_S.
+    #[inline]
+    fn scatter(&self, tn: f64, ts: f64, y: &mut [f64]) {
+        match self.fixed_rows() {
+            Some((d, bn, bs)) => row_scatter(d, bn, bs, tn, ts, y),
+            None => row_scatter(&self.dofs, &self.bn, &self.bs, tn, ts, y),
+        }
     }
 }
 
@@ -608,11 +649,7 @@ impl ContactSet {
             if resp.tn == 0.0 && resp.ts == 0.0 {
                 continue;
             }
-            for ((&d, bn), bs) in c.dofs.iter().zip(&c.bn).zip(&c.bs) {
-                if d != NO_DOF {
-                    r[d] -= bn * resp.tn + bs * resp.ts;
-                }
-            }
+            c.scatter(-resp.tn, -resp.ts, r);
         }
         inconsistent
     }
@@ -661,11 +698,7 @@ impl ContactSet {
             let Some((tn, ts)) = f else {
                 continue;
             };
-            for ((&k, bn), bs) in c.dofs.iter().zip(&c.bn).zip(&c.bs) {
-                if k != NO_DOF {
-                    y[k] += bn * tn + bs * ts;
-                }
-            }
+            c.scatter(tn, ts, y);
         }
     }
 
@@ -699,14 +732,20 @@ impl ContactSet {
         if a == 0.0 && b == 0.0 && cc == 0.0 && d == 0.0 {
             return false;
         }
-        let n = c.dofs.len();
-        let (bn, bs) = (&c.bn[..], &c.bs[..]);
-        for jj in 0..n {
-            let vn = a * bn[jj] + b * bs[jj];
-            let vs = cc * bn[jj] + d * bs[jj];
-            for ii in 0..n {
-                k[ii * n + jj] = bn[ii] * vn + bs[ii] * vs;
+        #[inline(always)]
+        fn fill(bn: &[f64], bs: &[f64], [a, b, cc, d]: [f64; 4], k: &mut [f64]) {
+            let n = bn.len();
+            for jj in 0..n {
+                let vn = a * bn[jj] + b * bs[jj];
+                let vs = cc * bn[jj] + d * bs[jj];
+                for ii in 0..n {
+                    k[ii * n + jj] = bn[ii] * vn + bs[ii] * vs;
+                }
             }
+        }
+        match c.fixed_rows() {
+            Some((_, bn, bs)) => fill(bn, bs, [a, b, cc, d], k),
+            None => fill(&c.bn, &c.bs, [a, b, cc, d], k),
         }
         true
     }

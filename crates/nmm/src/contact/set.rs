@@ -71,8 +71,88 @@ pub use saved::SavedContacts;
 /// the edge's element (with first-order covers 36: [`ContactSet::contact_dofs`]).
 pub const CONTACT_DOFS: usize = 2 * ELEMENT_DOFS;
 
-/// A contact's row over its unknowns (inline up to [`CONTACT_DOFS`]).
-pub type ContactRow<T> = smallvec::SmallVec<[T; CONTACT_DOFS]>;
+/// Most unknowns of a contact of any basis (two elements of first-order covers).
+pub const MAX_CONTACT_DOFS: usize = 2 * crate::cover::basis::MAX_ELEMENT_DOFS;
+
+/// A contact's row over its unknowns: an array of [`CONTACT_DOFS`] for constant covers (no
+/// allocation, loops of a known length), boxed for longer rows (first-order covers).
+#[derive(Clone, Debug)]
+pub enum ContactRow<T: Copy> {
+    Fixed([T; CONTACT_DOFS]),
+    Long(Box<[T]>),
+}
+
+impl<T: Copy> ContactRow<T> {
+    /// A row of `n` copies of `x`.
+    pub fn filled(x: T, n: usize) -> Self {
+        if n == CONTACT_DOFS {
+            ContactRow::Fixed([x; CONTACT_DOFS])
+        } else {
+            ContactRow::Long(vec![x; n].into_boxed_slice())
+        }
+    }
+
+    /// The row as an array of the constant basis's length, if it is one.
+    #[inline(always)]
+    pub fn fixed(&self) -> Option<&[T; CONTACT_DOFS]> {
+        match self {
+            ContactRow::Fixed(a) => Some(a),
+            ContactRow::Long(_) => None,
+        }
+    }
+}
+
+impl<T: Copy> From<&[T]> for ContactRow<T> {
+    fn from(s: &[T]) -> Self {
+        match <[T; CONTACT_DOFS]>::try_from(s) {
+            Ok(a) => ContactRow::Fixed(a),
+            Err(_) => ContactRow::Long(s.into()),
+        }
+    }
+}
+
+impl<T: Copy> std::ops::Deref for ContactRow<T> {
+    type Target = [T];
+    #[inline(always)]
+    fn deref(&self) -> &[T] {
+        match self {
+            ContactRow::Fixed(a) => a,
+            ContactRow::Long(b) => b,
+        }
+    }
+}
+
+impl<T: Copy> std::ops::DerefMut for ContactRow<T> {
+    #[inline(always)]
+    fn deref_mut(&mut self) -> &mut [T] {
+        match self {
+            ContactRow::Fixed(a) => a,
+            ContactRow::Long(b) => b,
+        }
+    }
+}
+
+impl<T: Copy + PartialEq> PartialEq for ContactRow<T> {
+    fn eq(&self, other: &Self) -> bool {
+        **self == **other
+    }
+}
+impl<T: Copy + Eq> Eq for ContactRow<T> {}
+impl<T: Copy + std::hash::Hash> std::hash::Hash for ContactRow<T> {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        (**self).hash(state)
+    }
+}
+impl<T: Copy + Ord> PartialOrd for ContactRow<T> {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl<T: Copy + Ord> Ord for ContactRow<T> {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        (**self).cmp(&**other)
+    }
+}
 
 /// (block of the vertex, vertex index on its refined boundary, block of the edge).
 pub type ContactKey = (usize, usize, usize);
@@ -144,15 +224,11 @@ impl Contact {
         &[f64; CONTACT_DOFS],
         &[f64; CONTACT_DOFS],
     )> {
-        Some((
-            self.dofs[..].try_into().ok()?,
-            self.bn[..].try_into().ok()?,
-            self.bs[..].try_into().ok()?,
-        ))
+        Some((self.dofs.fixed()?, self.bn.fixed()?, self.bs.fixed()?))
     }
 
     /// (g_N, Δg_S) at the increment `du`.
-    #[inline]
+    #[inline(always)]
     pub fn gaps(&self, du: &[f64]) -> (f64, f64) {
         match self.fixed_rows() {
             Some((d, bn, bs)) => row_products(self.gn0, d, bn, bs, du),
@@ -161,7 +237,7 @@ impl Contact {
     }
 
     /// (b_N · v, b_S · v) for a direction v.
-    #[inline]
+    #[inline(always)]
     fn rates(&self, v: &[f64]) -> (f64, f64) {
         match self.fixed_rows() {
             Some((d, bn, bs)) => row_products(0.0, d, bn, bs, v),
@@ -170,7 +246,7 @@ impl Contact {
     }
 
     /// y += b_N t_N + b_S t_S.
-    #[inline]
+    #[inline(always)]
     fn scatter(&self, tn: f64, ts: f64, y: &mut [f64]) {
         match self.fixed_rows() {
             Some((d, bn, bs)) => row_scatter(d, bn, bs, tn, ts, y),
@@ -495,9 +571,9 @@ impl ContactSet {
                     let wb = barycentric(&disc.elements[eb].nodes, q);
                     let wa = vert.at.weights;
                     let ea = &disc.elements[vert.at.element];
-                    let mut dofs: ContactRow<usize> = smallvec::smallvec![NO_DOF; 2 * ne];
-                    let mut bn: ContactRow<f64> = smallvec::smallvec![0.0; 2 * ne];
-                    let mut bs: ContactRow<f64> = smallvec::smallvec![0.0; 2 * ne];
+                    let mut dofs = ContactRow::filled(NO_DOF, 2 * ne);
+                    let mut bn = ContactRow::filled(0.0, 2 * ne);
+                    let mut bs = ContactRow::filled(0.0, 2 * ne);
                     let mut ed = [NO_DOF; MAX_ELEMENT_DOFS];
                     let (mut rn, mut rs) = ([0.0; MAX_ELEMENT_DOFS], [0.0; MAX_ELEMENT_DOFS]);
                     for (side, (el, w, sign)) in [(ea, wa, 1.0), (&disc.elements[eb], wb, -1.0)]
@@ -662,7 +738,7 @@ impl ContactSet {
             if r.tn == 0.0 && r.ts == 0.0 {
                 continue;
             }
-            for ((&d, bn), bs) in c.dofs.iter().zip(&c.bn).zip(&c.bs) {
+            for ((&d, bn), bs) in c.dofs.iter().zip(c.bn.iter()).zip(c.bs.iter()) {
                 if d != NO_DOF {
                     f[d] += (bn * r.tn + bs * r.ts).abs();
                 }
@@ -723,6 +799,7 @@ impl ContactSet {
 
     /// [`ContactSet::tangent_block`] into `k` (n² long); false (and `k` untouched) when the
     /// block is zero.
+    #[inline]
     pub fn tangent_block_into(c: &Contact, symmetric: bool, k: &mut [f64]) -> bool {
         let [a, mut b, mut cc, d] = c.coef;
         if symmetric {
@@ -743,9 +820,21 @@ impl ContactSet {
                 }
             }
         }
-        match c.fixed_rows() {
-            Some((_, bn, bs)) => fill(bn, bs, [a, b, cc, d], k),
-            None => fill(&c.bn, &c.bs, [a, b, cc, d], k),
+        match (
+            c.fixed_rows(),
+            <&mut [f64; CONTACT_DOFS * CONTACT_DOFS]>::try_from(&mut *k),
+        ) {
+            // the constant basis: arrays throughout (no bounds checks, vectorised)
+            (Some((_, bn, bs)), Ok(k)) => {
+                for jj in 0..CONTACT_DOFS {
+                    let vn = a * bn[jj] + b * bs[jj];
+                    let vs = cc * bn[jj] + d * bs[jj];
+                    for ii in 0..CONTACT_DOFS {
+                        k[ii * CONTACT_DOFS + jj] = bn[ii] * vn + bs[ii] * vs;
+                    }
+                }
+            }
+            _ => fill(&c.bn, &c.bs, [a, b, cc, d], k),
         }
         true
     }

@@ -129,7 +129,20 @@ impl CoverBasis {
     }
 
     /// The global unknowns of element `e` into `out` (`element_dofs()` of them).
+    #[inline]
     pub fn element_dofs_into(self, disc: &Discretisation, e: &ManifoldElement, out: &mut [usize]) {
+        if self == CoverBasis::Constant {
+            let out: &mut [usize; ELEMENT_DOFS] = (&mut out[..ELEMENT_DOFS]).try_into().unwrap();
+            for k in 0..ELEMENT_COVERS {
+                let (x, y) = match disc.covers[e.covers[k]].dof {
+                    Some(g) => (g, g + 1),
+                    None => (NO_DOF, NO_DOF),
+                };
+                out[2 * k] = x;
+                out[2 * k + 1] = y;
+            }
+            return;
+        }
         let t = self.terms();
         let cd = 2 * t;
         for k in 0..ELEMENT_COVERS {
@@ -229,6 +242,10 @@ impl CoverBasis {
     /// d · u(x) = r · u_e, into `out` (`element_dofs()` long).
     #[inline]
     pub fn directional_row(self, e: &ManifoldElement, w: &[f64; 3], d: Vec2, out: &mut [f64]) {
+        if self == CoverBasis::Constant {
+            out[..ELEMENT_DOFS].copy_from_slice(&directional_row(w, d));
+            return;
+        }
         let mut n = [0.0; MAX_ELEMENT_SHAPES];
         self.shapes(e, w, &mut n);
         for a in 0..self.element_shapes() {

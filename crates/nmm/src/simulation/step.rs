@@ -21,7 +21,8 @@ use std::sync::Arc;
 pub(crate) type CouplingKey = ContactRow<usize>;
 
 fn coupling_key(dofs: &[usize]) -> CouplingKey {
-    let mut k: CouplingKey = dofs.into();
+    let mut key: CouplingKey = dofs.into();
+    let k: &mut [usize] = &mut key;
     k.sort_unstable(); // NO_DOF = usize::MAX sorts last
     let mut w = 0;
     for r in 0..k.len() {
@@ -31,7 +32,7 @@ fn coupling_key(dofs: &[usize]) -> CouplingKey {
         }
     }
     k[w..].iter_mut().for_each(|x| *x = NO_DOF);
-    k
+    key
 }
 
 /// The tangent pattern (see the module docs), kept across steps: the element pattern plus
@@ -140,31 +141,44 @@ impl TangentPattern {
         // bind: each contact's slots, from its coupling's, in the contact's own order
         self.contact_slots.clear();
         self.contact_slots.resize(keys.len() * n2, u32::MAX);
-        let mut pos: Vec<usize> = vec![usize::MAX; nc];
-        for (ci, (c, k)) in contacts.contacts.iter().zip(&keys).enumerate() {
-            let g = self.index[k] as usize * n2;
-            for (i, p) in pos.iter_mut().enumerate() {
-                let d = c.dofs[i];
-                *p = if d == NO_DOF {
-                    usize::MAX
-                } else {
-                    k.iter().position(|&x| x == d).expect("dof in its key")
-                };
-            }
+        for (ci, (c, key)) in contacts.contacts.iter().zip(&keys).enumerate() {
+            let g = self.index[key] as usize * n2;
             let out = &mut self.contact_slots[ci * n2..(ci + 1) * n2];
-            for i in 0..nc {
-                if pos[i] == usize::MAX {
-                    continue;
-                }
-                for j in 0..nc {
-                    if pos[j] != usize::MAX {
-                        out[i * nc + j] = self.key_slots[g + pos[i] * nc + pos[j]];
-                    }
+            let slots = &self.key_slots[g..g + n2];
+            match (key.fixed(), c.dofs.fixed()) {
+                // constant covers: arrays of a known length
+                (Some(k), Some(dofs)) => bind(k, dofs, slots, out),
+                _ => {
+                    let (k, dofs): (&[usize], &[usize]) = (key, &c.dofs);
+                    bind(k, dofs, slots, out)
                 }
             }
         }
         self.bound = Some(contacts.generation());
         self.combined.clone().expect("pattern")
+    }
+}
+
+/// A contact's tangent slots (`out`, n² row-major over its unknowns `dofs`) from its
+/// coupling's (`slots`, n² row-major over the coupling's `key`).
+#[inline(always)]
+fn bind(key: &[usize], dofs: &[usize], slots: &[u32], out: &mut [u32]) {
+    let nc = dofs.len();
+    let mut pos = [usize::MAX; crate::contact::set::MAX_CONTACT_DOFS];
+    for (p, &d) in pos.iter_mut().zip(dofs) {
+        if d != NO_DOF {
+            *p = key.iter().position(|&x| x == d).expect("dof in its key");
+        }
+    }
+    for i in 0..nc {
+        if pos[i] == usize::MAX {
+            continue;
+        }
+        for j in 0..nc {
+            if pos[j] != usize::MAX {
+                out[i * nc + j] = slots[pos[i] * nc + pos[j]];
+            }
+        }
     }
 }
 

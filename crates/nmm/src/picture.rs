@@ -411,12 +411,16 @@ fn point_key(g: &ReadGrid) -> impl Fn([f64; 2]) -> (i64, i64) {
 
 /// The deformed outlines of the blocks of a blocks frame: per block id (0 … the largest id
 /// in the frame's `block` array), its closed outlines (no point repeated), each
-/// counter-clockwise, the largest first. A block is one outline unless its elements touch
-/// only at points. Built from [`outline_edges`].
+/// counter-clockwise, the largest first. The cells are counter-clockwise (as the library
+/// writes them), so each outline edge has the block on its left; the outline is followed
+/// edge to edge, and where several edges leave a point (elements of one block touching at
+/// a point only) the one turning furthest to the left is taken, so that such a block gives
+/// one outline per part rather than a figure of eight. Built from [`outline_edges`].
 pub fn block_outlines(g: &ReadGrid) -> Vec<Vec<Vec<[f64; 2]>>> {
     let edges = outline_edges(g);
     let n = edges.iter().map(|e| e.0 + 1).max().unwrap_or(0).max(0) as usize;
     let key = point_key(g);
+    let angle = |p: [f64; 2], q: [f64; 2]| (q[1] - p[1]).atan2(q[0] - p[0]);
     let mut out = vec![Vec::new(); n];
     for (b, loops) in out.iter_mut().enumerate() {
         let mine: Vec<([f64; 2], [f64; 2])> = edges
@@ -424,11 +428,9 @@ pub fn block_outlines(g: &ReadGrid) -> Vec<Vec<Vec<[f64; 2]>>> {
             .filter(|e| e.0 == b as i64)
             .map(|e| (e.1, e.2))
             .collect();
-        // undirected: the edges at each point
-        let mut at: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
-        for (i, (p, q)) in mine.iter().enumerate() {
-            at.entry(key(*p)).or_default().push(i);
-            at.entry(key(*q)).or_default().push(i);
+        let mut from: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+        for (i, (p, _)) in mine.iter().enumerate() {
+            from.entry(key(*p)).or_default().push(i);
         }
         let mut used = vec![false; mine.len()];
         for start in 0..mine.len() {
@@ -436,24 +438,30 @@ pub fn block_outlines(g: &ReadGrid) -> Vec<Vec<Vec<[f64; 2]>>> {
                 continue;
             }
             used[start] = true;
-            let mut ring = vec![mine[start].0];
             let first = key(mine[start].0);
-            let mut here = mine[start].1;
+            let mut ring = vec![mine[start].0];
+            let mut edge = start;
             loop {
-                let k = key(here);
-                if k == first {
+                let (p, q) = mine[edge];
+                if key(q) == first {
                     break;
                 }
-                ring.push(here);
-                let Some(&next) = at
-                    .get(&k)
-                    .and_then(|v| v.iter().find(|&&e| !used[e]))
-                else {
+                ring.push(q);
+                // the edge leaving q first met turning clockwise from q → p
+                let back = angle(q, p);
+                let next = from.get(&key(q)).and_then(|v| {
+                    v.iter().copied().filter(|&e| !used[e]).min_by(|&x, &y| {
+                        let cw = |e: usize| {
+                            (back - angle(mine[e].0, mine[e].1)).rem_euclid(std::f64::consts::TAU)
+                        };
+                        cw(x).total_cmp(&cw(y))
+                    })
+                });
+                let Some(next) = next else {
                     break; // an open chain: kept as it is
                 };
                 used[next] = true;
-                let (p, q) = mine[next];
-                here = if key(p) == k { q } else { p };
+                edge = next;
             }
             if crate::geometry::polygon::signed_area(&ring) < 0.0 {
                 ring.reverse();
@@ -552,4 +560,63 @@ pub fn frame_scene_in(
         }
     }
     Ok((s, own))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A grid of cells of the given blocks (each cell with its own copies of its points).
+    fn grid(cells: &[(usize, Vec<[f64; 2]>)]) -> ReadGrid {
+        let mut g = ReadGrid::default();
+        let mut blocks = Vec::new();
+        for (b, pts) in cells {
+            let first = g.points.len();
+            g.points.extend(pts);
+            g.cells.push((first..first + pts.len()).collect());
+            blocks.push(*b as f64);
+        }
+        g.cell_data.insert("block".into(), (1, blocks));
+        g
+    }
+
+    #[test]
+    fn outlines_join_the_unshared_edges_of_each_block() {
+        // block 0: a unit square as two triangles; block 1: a triangle touching it along
+        // x = 1 (an edge of another block is still an outline)
+        let g = grid(&[
+            (0, vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]),
+            (0, vec![[0.0, 0.0], [1.0, 1.0], [0.0, 1.0]]),
+            (1, vec![[1.0, 0.0], [2.0, 0.5], [1.0, 1.0]]),
+        ]);
+        assert_eq!(outline_edges(&g).len(), 4 + 3);
+        let o = block_outlines(&g);
+        assert_eq!(o.len(), 2);
+        assert_eq!(o[0].len(), 1, "one outline");
+        let square = &o[0][0];
+        assert_eq!(square.len(), 4);
+        assert!((crate::geometry::polygon::signed_area(square) - 1.0).abs() < 1e-15);
+        assert!((crate::geometry::polygon::signed_area(&o[1][0]) - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_block_whose_elements_touch_at_a_point_has_two_outlines() {
+        // two squares touching at (1, 1), the lower one as two triangles listed around the
+        // upper one: at (1, 1) the upper square's edge is found first, and following it
+        // would walk a figure of eight
+        let g = grid(&[
+            (0, vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]),
+            (0, vec![[1.0, 1.0], [3.0, 1.0], [3.0, 3.0], [1.0, 3.0]]),
+            (0, vec![[0.0, 0.0], [1.0, 1.0], [0.0, 1.0]]),
+        ]);
+        let o = block_outlines(&g);
+        assert_eq!(o[0].len(), 2, "{:?}", o[0]);
+        assert_eq!((o[0][0].len(), o[0][1].len()), (4, 4));
+        // the largest first, both counter-clockwise
+        let areas: Vec<f64> = o[0]
+            .iter()
+            .map(|r| crate::geometry::polygon::signed_area(r))
+            .collect();
+        assert!((areas[0] - 4.0).abs() < 1e-15 && (areas[1] - 1.0).abs() < 1e-15);
+    }
 }

@@ -182,11 +182,12 @@ def _draw_frame(fig, ax, fr, field: str, contacts: bool, cmap: str, limits, titl
     handles = []
     if contacts and len(fr.contacts):
         states = fr.contacts["state"].clip(0, 2).to_numpy()
+        size = min(9.0, max(1.0, 3000.0 / len(states)))  # smaller markers where there are many
         for k, (name, colour) in enumerate(_STATES):
             on = states == k
             if on.any():
-                ax.scatter(fr.contacts["x"][on], fr.contacts["y"][on], s=9, color=_rgb(colour),
-                           zorder=3)
+                ax.scatter(fr.contacts["x"][on], fr.contacts["y"][on], s=size,
+                           color=_rgb(colour), zorder=3, linewidths=0)
                 handles.append(Line2D([], [], marker="o", ls="", color=_rgb(colour), label=name))
     if handles:
         ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=3,

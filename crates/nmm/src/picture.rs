@@ -505,14 +505,16 @@ pub fn frame_scene_in(
         _ => own,
     };
     let (factor, unit) = unit(field, lo.abs().max(hi.abs()));
-    let mut s = Scene::default();
-    s.title = format!(
-        "{} — {}t = {} s — {}",
-        dir.display(),
-        frame.step.map_or(String::new(), |k| format!("step {k}, ")),
-        frame.time,
-        field.name()
-    );
+    let mut s = Scene {
+        title: format!(
+            "{} — {}t = {} s — {}",
+            dir.display(),
+            frame.step.map_or(String::new(), |k| format!("step {k}, ")),
+            frame.time,
+            field.name()
+        ),
+        ..Scene::default()
+    };
     let span = hi - lo;
     for (cell, v) in g.cells.iter().zip(&values) {
         let t = if span > 0.0 { (v - lo) / span } else { 0.5 };

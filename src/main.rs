@@ -102,7 +102,8 @@ enum Command {
         /// Run: the last frame (the default).
         #[arg(long, conflicts_with = "every")]
         last: bool,
-        /// Run: every K-th frame (and the last) as DIR/frame_NNNN.png.
+        /// Run: every K-th frame (and the last) as DIR/frame_NNNN.png, and all of them as
+        /// the animation DIR/frames.gif (one view and one colour range).
         #[arg(long, value_name = "K")]
         every: Option<usize>,
         /// Run: the field the blocks are coloured by: u, ux, uy, sxx, syy or sxy.
@@ -504,8 +505,8 @@ fn plot(
     mesh: bool,
     width: u32,
 ) -> anyhow::Result<ExitCode> {
-    use nmm::output::plot::plot_scene;
-    use nmm::picture::{frame_scene, model_scene, run_frames, Field};
+    use nmm::output::plot::{plot_scene, scene_view, union_view, GifAnimation};
+    use nmm::picture::{frame_scene, frame_scene_in, model_scene, run_frames, Field};
     if !target.is_dir() {
         if frame.is_some() || time.is_some() || every.is_some() {
             anyhow::bail!(
@@ -541,12 +542,34 @@ fn plot(
         if indices.last() != Some(&(frames.len() - 1)) {
             indices.push(frames.len() - 1);
         }
-        for i in indices {
-            let scene = frame_scene(target, i, field).map_err(anyhow::Error::msg)?;
+        // the PNGs, each in its own view and colour range, as a single frame is drawn;
+        // their union view and range for the GIF
+        let mut view = None;
+        let mut range = (f64::INFINITY, f64::NEG_INFINITY);
+        for &i in &indices {
+            let (scene, own) =
+                frame_scene_in(target, i, field, None).map_err(anyhow::Error::msg)?;
             let file = out.join(format!("frame_{i:04}.png"));
             plot_scene(&file, &scene, width)?;
             println!("{}", file.display());
+            let v = scene_view(&scene);
+            view = Some(view.map_or(v.clone(), |u| union_view(&u, &v)));
+            range = (range.0.min(own.0), range.1.max(own.1));
         }
+        // the animation: the same frames in one view and one colour range
+        let gif = out.join("frames.gif");
+        let view = view.expect("at least the last frame");
+        let mut animation = None;
+        for &i in &indices {
+            let (scene, _) =
+                frame_scene_in(target, i, field, Some(range)).map_err(anyhow::Error::msg)?;
+            if animation.is_none() {
+                animation = Some(GifAnimation::create(&gif, &scene, width, view.clone(), 20)?);
+            }
+            animation.as_mut().expect("created above").add(&scene)?;
+        }
+        animation.expect("at least one frame").finish()?;
+        println!("{}", gif.display());
         return Ok(ExitCode::SUCCESS);
     }
     let index = match (frame, time) {

@@ -33,6 +33,20 @@ fn run(name: &str, dir: &Path, extra: &[&str]) -> (Vec<String>, Vec<Vec<f64>>) {
         "{name}: {}",
         String::from_utf8_lossy(&o.stderr)
     );
+    // every example's energy balance closes (issue 18, item 4): stored + dissipated =
+    // initial + external work + constraint work within 1% of the largest energy flow
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let e = &summary["energy"];
+    let off = e["balance_error_relative"].as_f64().unwrap();
+    eprintln!(
+        "{name} {extra:?}: energy balance off by {off:.2e}; friction {:.4e}, algorithmic {:.4e}, static reset {:.4e} J/m",
+        e["friction_dissipation"].as_f64().unwrap(), e["algorithmic_dissipation"].as_f64().unwrap(), e["static_reset"].as_f64().unwrap()
+    );
+    assert!(
+        off.abs() <= 0.01,
+        "{name}: the energy balance is off by {off:.3e} of the largest energy flow: {e}"
+    );
     let text = std::fs::read_to_string(dir.join("history.csv")).unwrap();
     let mut lines = text.lines();
     let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();

@@ -15,6 +15,8 @@ fn direct_shear_params() -> FrictionParams {
         ps: 1.0e11,
         tan_phi: 30f64.to_radians().tan(),
         cohesion: 0.0,
+        dashpot: 0.0,
+        gn0: 0.0,
     }
 }
 
@@ -214,6 +216,8 @@ fn newton_with_consistent_tangent_converges_in_few_iterations() {
         ps: 1.0e9,
         tan_phi: 0.6,
         cohesion: 0.0,
+        dashpot: 0.0,
+        gn0: 0.0,
     };
     let (it_consistent, x) = newton_iterations(&p, false);
     let (it_dropped, _) = newton_iterations(&p, true);
@@ -244,6 +248,8 @@ fn return_mapping_matches_the_closed_form_and_its_tangent() {
         ps: 2.0e9,
         tan_phi: 35f64.to_radians().tan(),
         cohesion: 5.0e3,
+        dashpot: 0.0,
+        gn0: 0.0,
     };
     let mut n = [0usize; 3];
     for ge0 in [-4e-6, 0.0, 1e-6, 3e-6] {

@@ -221,9 +221,70 @@ fn run_frames_change_with_field_and_frame() {
     names.sort();
     assert_eq!(
         names,
-        ["frame_0000.png", "frame_0002.png", "frame_0004.png"]
+        [
+            "frame_0000.png",
+            "frame_0002.png",
+            "frame_0004.png",
+            "frames.gif"
+        ]
     );
-    assert!(names.iter().all(|n| is_png(&seq.join(n))));
+    assert!(names[..3].iter().all(|n| is_png(&seq.join(n))));
+    // the animation: as many frames as PNGs, one size, and the block moves
+    let frames = gif_frames(&seq.join("frames.gif"));
+    assert_eq!(frames.len(), 3, "one GIF frame per PNG");
+    let (w, h, _) = &frames[0];
+    assert_eq!(*w, 1200, "the PNGs' width");
+    assert!(frames.iter().all(|f| (f.0, f.1) == (*w, *h)), "one size");
+    assert_ne!(frames[0].2, frames[1].2);
+    assert_ne!(frames[1].2, frames[2].2);
+}
+
+/// The frames of a GIF (width, height, palette indices), decoded by the `gif` crate; the
+/// file must start with the GIF89a header.
+fn gif_frames(path: &Path) -> Vec<(u16, u16, Vec<u8>)> {
+    let bytes = std::fs::read(path).unwrap();
+    assert!(
+        bytes.starts_with(b"GIF89a"),
+        "{}: not a GIF89a",
+        path.display()
+    );
+    let mut options = gif::DecodeOptions::new();
+    options.set_color_output(gif::ColorOutput::RGBA);
+    let mut decoder = options.read_info(bytes.as_slice()).unwrap();
+    let mut out = Vec::new();
+    while let Some(f) = decoder.read_next_frame().unwrap() {
+        out.push((f.width, f.height, f.buffer.to_vec()));
+    }
+    out
+}
+
+#[test]
+fn every_frame_of_a_run_goes_into_the_gif() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = incline_run(dir.path());
+    let seq = dir.path().join("all");
+    ok(&[
+        "plot",
+        run.to_str().unwrap(),
+        "--every",
+        "1",
+        "--out",
+        seq.to_str().unwrap(),
+    ]);
+    let pngs = std::fs::read_dir(&seq)
+        .unwrap()
+        .filter(|e| {
+            let p = e.as_ref().unwrap().path();
+            p.extension().is_some_and(|x| x == "png") && is_png(&p)
+        })
+        .count();
+    assert_eq!(pngs, 5, "frames at steps 0, 10, 20, 30, 40");
+    let frames = gif_frames(&seq.join("frames.gif"));
+    assert_eq!(frames.len(), pngs);
+    // in one colour range the sliding block changes colour from frame to frame
+    for k in 1..frames.len() {
+        assert_ne!(frames[k - 1].2, frames[k].2, "frames {} and {k}", k - 1);
+    }
 }
 
 #[test]

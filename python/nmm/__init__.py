@@ -6,6 +6,8 @@
     result = nmm.run(model, out="out/ds")   # as `nmm run MODEL --out out/ds`
     result.history                          # pandas DataFrame: the history.csv columns
     result.summary                          # summary.json as a dict
+    result.frame(-1).elements               # the last VTK frame: DataFrame per element
+    nmm.plot(result, field="sxx")           # a matplotlib Figure (nmm[plot])
 
 A model is validated by the library itself (the same code as the command line): a model
 the file format refuses raises :class:`ModelError` with the same one-line message. Changes
@@ -26,6 +28,8 @@ from typing import Any, Callable, Optional, Union
 
 from ._nmm import Model, ModelError, RunError, version
 from . import _nmm
+from ._frames import Frame, Frames
+from ._plot import plot
 
 __all__ = [
     "Model",
@@ -33,7 +37,10 @@ __all__ = [
     "RunError",
     "Interrupted",
     "Result",
+    "Frame",
+    "Frames",
     "check",
+    "plot",
     "run",
     "read_history",
     "as_model",
@@ -47,12 +54,45 @@ __version__ = version()
 class Result:
     """A finished run: ``history`` (DataFrame of history.csv), ``summary`` (summary.json
     as a dict: steps, cuts, iterations, timings, …) and ``out`` (the output folder, or None
-    when the run wrote into a temporary folder that is gone)."""
+    when the run wrote into a temporary folder that is gone); with VTK output, ``frames``
+    (the frames of blocks.pvd) and ``frame(k)``. ``Result.load(dir)`` reads a run folder
+    written by ``nmm run`` or :func:`run`."""
 
     def __init__(self, history, summary: dict, out: Optional[Path]):
         self.history = history
         self.summary = summary
         self.out = out
+        self._frames = None
+
+    @classmethod
+    def load(cls, out: Union[str, os.PathLike]) -> "Result":
+        """The result of the run in the folder ``out`` (its history.csv and summary.json)."""
+        import json
+
+        out = Path(out)
+        if not (out / "history.csv").is_file():
+            raise FileNotFoundError(f"{out}: no history.csv (not a run folder)")
+        summary_file = out / "summary.json"
+        summary = json.loads(summary_file.read_text()) if summary_file.is_file() else {}
+        return cls(read_history(out / "history.csv"), summary, out)
+
+    @property
+    def frames(self) -> "Frames":
+        """The frames of the run's blocks.pvd (:class:`Frames`: ``len``, indexing,
+        iteration, ``times``, ``steps``); ValueError when the run wrote no VTK output
+        (``vtk=False``, ``--no-vtk``) or its folder is gone."""
+        if self._frames is None:
+            if self.out is None:
+                raise ValueError(
+                    "this run's folder is gone (run without out=): run it with out=DIR to keep its frames"
+                )
+            self._frames = Frames(self.out)
+        return self._frames
+
+    def frame(self, k: int = -1) -> "Frame":
+        """Frame ``k`` of blocks.pvd (from 0, negative from the end; default the last): the
+        deformed blocks, their fields and the contacts of that step (:class:`Frame`)."""
+        return self.frames[k]
 
     def __repr__(self) -> str:
         return (

@@ -11,7 +11,7 @@
 use pyo3::create_exception;
 use pyo3::exceptions::{PyKeyError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc};
@@ -813,6 +813,37 @@ impl Model {
         Ok(sim.warnings())
     }
 
+    /// The blocks after cutting (pieces `NAME.k` of blocks cut by joints, small pieces
+    /// merged), in block-id order (the ids of blocks.csv and the VTK `block` arrays), as a
+    /// DataFrame made by `nmm._frames.blocks_table`.
+    fn blocks<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let rows = PyList::empty(py);
+        for b in &m.blocks {
+            let row = PyDict::new(py);
+            row.set_item("name", &b.name)?;
+            row.set_item(
+                "material",
+                m.materials.get(b.material).map(|mat| mat.name.as_str()),
+            )?;
+            row.set_item("fixed", b.fixed)?;
+            row.set_item("area", nmm::geometry::polygon::signed_area(&b.vertices))?;
+            row.set_item("parent", b.parent.as_deref())?;
+            row.set_item("polygon", f64_bytes(py, b.vertices.iter().flatten()))?;
+            row.set_item(
+                "joints",
+                b.edge_joint
+                    .iter()
+                    .map(|j| j.map_or(-1, |j| j as i64))
+                    .collect::<Vec<i64>>(),
+            )?;
+            rows.append(row)?;
+        }
+        let joints: Vec<&str> = m.joints.iter().map(|j| j.name.as_str()).collect();
+        py.import("nmm._frames")?
+            .call_method1("blocks_table", (rows, joints))
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "nmm.Model(source={:?}, blocks={}, steps={})",
@@ -992,6 +1023,136 @@ fn run_into<'py>(
     }
 }
 
+/// f64 values as native-endian bytes (`numpy.frombuffer(b, dtype=float)` reads them).
+fn f64_bytes<'a, 'py>(
+    py: Python<'py>,
+    values: impl IntoIterator<Item = &'a f64>,
+) -> Bound<'py, PyBytes> {
+    let bytes: Vec<u8> = values.into_iter().flat_map(|v| v.to_ne_bytes()).collect();
+    PyBytes::new(py, &bytes)
+}
+
+/// A grid read back from a `.vtu` (`nmm::output::vtk::ReadGrid`) as a dict: `points`
+/// (x, y as f64 bytes), `cell_sizes` (points per cell), `connectivity` (point indices, in
+/// cell order), `point_data` and `cell_data` (name → (components, f64 bytes)),
+/// `field_strings` (name → list of str).
+fn grid_to_py<'py>(
+    py: Python<'py>,
+    g: &nmm::output::vtk::ReadGrid,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("points", f64_bytes(py, g.points.iter().flatten()))?;
+    d.set_item(
+        "cell_sizes",
+        g.cells.iter().map(Vec::len).collect::<Vec<usize>>(),
+    )?;
+    d.set_item(
+        "connectivity",
+        g.cells.iter().flatten().copied().collect::<Vec<usize>>(),
+    )?;
+    for (key, data) in [("point_data", &g.point_data), ("cell_data", &g.cell_data)] {
+        let arrays = PyDict::new(py);
+        let mut names: Vec<&String> = data.keys().collect();
+        names.sort();
+        for name in names {
+            let (c, v) = &data[name];
+            arrays.set_item(name, (*c, f64_bytes(py, v)))?;
+        }
+        d.set_item(key, arrays)?;
+    }
+    let strings = PyDict::new(py);
+    for (name, v) in &g.field_strings {
+        strings.set_item(name, v.clone())?;
+    }
+    d.set_item("field_strings", strings)?;
+    Ok(d)
+}
+
+fn field_of(name: &str) -> PyResult<nmm::picture::Field> {
+    nmm::picture::Field::parse(name)
+        .map_err(|e| PyValueError::new_err(e.trim_start_matches("--").to_string()))
+}
+
+/// The frames of the run in `out` (its `blocks.pvd`): a list of (time, file, step).
+#[pyfunction]
+fn run_frames(out: PathBuf) -> PyResult<Vec<(f64, String, Option<usize>)>> {
+    let frames = nmm::picture::run_frames(&out).map_err(PyValueError::new_err)?;
+    Ok(frames
+        .into_iter()
+        .map(|(t, f)| {
+            let step = nmm::picture::step_of(&f);
+            (t, f, step)
+        })
+        .collect())
+}
+
+/// Frame `index` of the run in `out`, read by the library's VTK reader
+/// (`nmm::picture::read_frame`, as `nmm plot RUN_DIR`): a dict with `index`, `time`,
+/// `step`, `file`, `blocks` and `contacts` (grids, see `grid_to_py`; `contacts` None when
+/// the step has no contact frame), `fields` (the values `nmm plot` colours the elements by:
+/// `u`, `ux`, `uy`, `sxx`, `syy`, `sxy`, f64 bytes) and `outlines` (per block id, its
+/// deformed outlines, f64 bytes each, the largest first).
+#[pyfunction]
+fn read_frame<'py>(py: Python<'py>, out: PathBuf, index: usize) -> PyResult<Bound<'py, PyDict>> {
+    let (frame, values, outlines) = py
+        .detach(move || -> Result<_, String> {
+            let frame = nmm::picture::read_frame(&out, index)?;
+            use nmm::picture::Field;
+            let mut values = Vec::new();
+            for (name, f) in [
+                ("u", Field::U),
+                ("ux", Field::Ux),
+                ("uy", Field::Uy),
+                ("sxx", Field::Sxx),
+                ("syy", Field::Syy),
+                ("sxy", Field::Sxy),
+            ] {
+                values.push((name, nmm::picture::cell_values(&frame.blocks, f)?));
+            }
+            let outlines = nmm::picture::block_outlines(&frame.blocks);
+            Ok((frame, values, outlines))
+        })
+        .map_err(PyValueError::new_err)?;
+    let d = PyDict::new(py);
+    d.set_item("index", frame.index)?;
+    d.set_item("time", frame.time)?;
+    d.set_item("step", frame.step)?;
+    d.set_item("file", &frame.file)?;
+    d.set_item("blocks", grid_to_py(py, &frame.blocks)?)?;
+    d.set_item(
+        "contacts",
+        frame
+            .contacts
+            .as_ref()
+            .map(|c| grid_to_py(py, c))
+            .transpose()?,
+    )?;
+    let fields = PyDict::new(py);
+    for (name, v) in &values {
+        fields.set_item(*name, f64_bytes(py, v))?;
+    }
+    d.set_item("fields", fields)?;
+    let blocks = PyList::empty(py);
+    for loops in &outlines {
+        let l = PyList::empty(py);
+        for ring in loops {
+            l.append(f64_bytes(py, ring.iter().flatten()))?;
+        }
+        blocks.append(l)?;
+    }
+    d.set_item("outlines", blocks)?;
+    Ok(d)
+}
+
+/// How `nmm plot` labels `field` (`u`, `ux`, `uy`, `sxx`, `syy`, `sxy`) for values up to
+/// `max` in magnitude: (its name, the factor values are divided by, the unit).
+#[pyfunction]
+fn field_unit(field: &str, max: f64) -> PyResult<(&'static str, f64, &'static str)> {
+    let f = field_of(field)?;
+    let (factor, unit) = nmm::picture::unit(f, max);
+    Ok((f.name(), factor, unit))
+}
+
 /// The library's version (summary.json's `nmm_version`).
 #[pyfunction]
 fn version() -> &'static str {
@@ -1006,6 +1167,9 @@ fn _nmm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_into, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     m.add_function(wrap_pyfunction!(stop_all, m)?)?;
+    m.add_function(wrap_pyfunction!(run_frames, m)?)?;
+    m.add_function(wrap_pyfunction!(read_frame, m)?)?;
+    m.add_function(wrap_pyfunction!(field_unit, m)?)?;
     m.add("ModelError", py.get_type::<ModelError>())?;
     m.add("RunError", py.get_type::<RunError>())?;
     Ok(())

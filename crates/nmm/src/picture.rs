@@ -225,7 +225,8 @@ impl Field {
         })
     }
 
-    fn name(self) -> &'static str {
+    /// The field's name in titles and colour bars: `|u|`, `ux`, `uy`, `σxx`, `σyy`, `τxy`.
+    pub fn name(self) -> &'static str {
         match self {
             Field::U => "|u|",
             Field::Ux => "ux",
@@ -236,7 +237,8 @@ impl Field {
         }
     }
 
-    fn is_stress(self) -> bool {
+    /// A stress (Pa), not a displacement (m).
+    pub fn is_stress(self) -> bool {
         matches!(self, Field::Sxx | Field::Syy | Field::Sxy)
     }
 }
@@ -257,14 +259,63 @@ pub fn run_frames(dir: &Path) -> Result<Vec<(f64, String)>, String> {
     Ok(frames)
 }
 
-/// The step of a frame file `vtk/blocks_NNNNNN.vtu`.
-fn step_of(file: &str) -> Option<usize> {
+/// The step of a frame file `vtk/blocks_NNNNNN.vtu` (or `vtk/contacts_NNNNNN.vtu`).
+pub fn step_of(file: &str) -> Option<usize> {
     let stem = Path::new(file).file_stem()?.to_str()?;
     stem.rsplit('_').next()?.parse().ok()
 }
 
-/// The value of `field` per cell of a blocks frame.
-fn cell_values(g: &ReadGrid, field: Field) -> Result<Vec<f64>, String> {
+/// One frame of a run read back from its VTK output: what `nmm plot RUN_DIR` draws and the
+/// Python package's `Result.frame(k)` returns.
+#[derive(Clone, Debug)]
+pub struct RunFrame {
+    /// Its index in `blocks.pvd` (from 0).
+    pub index: usize,
+    /// The frame's time (s), as `blocks.pvd` lists it.
+    pub time: f64,
+    /// The step, from the frame's file name (`vtk/blocks_NNNNNN.vtu`).
+    pub step: Option<usize>,
+    /// The frame's file, relative to the run folder.
+    pub file: String,
+    /// The deformed manifold elements (one cell each) with their arrays.
+    pub blocks: ReadGrid,
+    /// The contacts of the same step from `contacts.pvd` (None when it lists no frame at
+    /// that step: no contact then, or no `contacts.pvd`).
+    pub contacts: Option<ReadGrid>,
+}
+
+/// Frame `index` (from 0) of the run in `dir`: its blocks and the contacts of its step.
+pub fn read_frame(dir: &Path, index: usize) -> Result<RunFrame, String> {
+    let frames = run_frames(dir)?;
+    let (time, file) = frames.get(index).ok_or_else(|| {
+        format!(
+            "{}: no frame {index} (blocks.pvd has frames 0 … {})",
+            dir.display(),
+            frames.len() - 1
+        )
+    })?;
+    let blocks = read_vtu(&dir.join(file))?;
+    let step = step_of(file);
+    let mut contacts = None;
+    if let (Some(step), Ok(listed)) = (step, read_pvd(&dir.join("contacts.pvd"))) {
+        if let Some((_, cfile)) = listed.iter().find(|(_, f)| step_of(f) == Some(step)) {
+            contacts = Some(read_vtu(&dir.join(cfile))?);
+        }
+    }
+    Ok(RunFrame {
+        index,
+        time: *time,
+        step,
+        file: file.clone(),
+        blocks,
+        contacts,
+    })
+}
+
+/// The value of `field` per cell of a blocks frame: `u` the mean of the cell's vertex
+/// |displacement|, `ux`, `uy` the means of its components, `sxx`, `syy`, `sxy` the
+/// `stress` array.
+pub fn cell_values(g: &ReadGrid, field: Field) -> Result<Vec<f64>, String> {
     if field.is_stress() {
         let (c, v) = g
             .cell_data
@@ -297,8 +348,9 @@ fn cell_values(g: &ReadGrid, field: Field) -> Result<Vec<f64>, String> {
         .collect())
 }
 
-/// A unit for values up to `max` in magnitude: (factor to divide by, name).
-fn unit(field: Field, max: f64) -> (f64, &'static str) {
+/// A unit for values of `field` up to `max` in magnitude: (factor to divide by, name):
+/// m or mm for displacements, Pa, kPa or MPa for stresses.
+pub fn unit(field: Field, max: f64) -> (f64, &'static str) {
     if field.is_stress() {
         if max >= 1e6 {
             (1e6, "MPa")
@@ -314,35 +366,155 @@ fn unit(field: Field, max: f64) -> (f64, &'static str) {
     }
 }
 
+/// The block outline edges of a blocks frame: the cell edges not shared with another cell
+/// of the same block, as (block id, from, to), in cell order. Points closer than 1e-7 of
+/// the frame's extent are one point.
+pub fn outline_edges(g: &ReadGrid) -> Vec<(i64, [f64; 2], [f64; 2])> {
+    let blocks = g.cell_data.get("block").map(|(_, b)| b);
+    let key = point_key(g);
+    type Edge = (i64, (i64, i64), (i64, i64));
+    let mut count: HashMap<Edge, usize> = HashMap::new();
+    for (i, cell) in g.cells.iter().enumerate() {
+        let b = blocks.map_or(0, |b| b[i] as i64);
+        for k in 0..cell.len() {
+            let (a, c) = (
+                key(g.points[cell[k]]),
+                key(g.points[cell[(k + 1) % cell.len()]]),
+            );
+            *count.entry((b, a.min(c), a.max(c))).or_default() += 1;
+        }
+    }
+    let mut out = Vec::new();
+    for (i, cell) in g.cells.iter().enumerate() {
+        let b = blocks.map_or(0, |b| b[i] as i64);
+        for k in 0..cell.len() {
+            let (pa, pc) = (g.points[cell[k]], g.points[cell[(k + 1) % cell.len()]]);
+            let (a, c) = (key(pa), key(pc));
+            if count.get(&(b, a.min(c), a.max(c))) == Some(&1) {
+                out.push((b, pa, pc));
+            }
+        }
+    }
+    out
+}
+
+/// Integer keys of points: points closer than 1e-7 of the grid's extent share a key.
+fn point_key(g: &ReadGrid) -> impl Fn([f64; 2]) -> (i64, i64) {
+    let (mut mn, mut mx) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in &g.points {
+        mn = mn.min(p[0]).min(p[1]);
+        mx = mx.max(p[0]).max(p[1]);
+    }
+    let q = ((mx - mn).abs().max(1e-9)) * 1e-7;
+    move |p: [f64; 2]| ((p[0] / q).round() as i64, (p[1] / q).round() as i64)
+}
+
+/// The deformed outlines of the blocks of a blocks frame: per block id (0 … the largest id
+/// in the frame's `block` array), its closed outlines (no point repeated), each
+/// counter-clockwise, the largest first. The cells are counter-clockwise (as the library
+/// writes them), so each outline edge has the block on its left; the outline is followed
+/// edge to edge, and where several edges leave a point (elements of one block touching at
+/// a point only) the one turning furthest to the left is taken, so that such a block gives
+/// one outline per part rather than a figure of eight. Built from [`outline_edges`].
+pub fn block_outlines(g: &ReadGrid) -> Vec<Vec<Vec<[f64; 2]>>> {
+    let edges = outline_edges(g);
+    let n = edges.iter().map(|e| e.0 + 1).max().unwrap_or(0).max(0) as usize;
+    let key = point_key(g);
+    let angle = |p: [f64; 2], q: [f64; 2]| (q[1] - p[1]).atan2(q[0] - p[0]);
+    let mut out = vec![Vec::new(); n];
+    for (b, loops) in out.iter_mut().enumerate() {
+        let mine: Vec<([f64; 2], [f64; 2])> = edges
+            .iter()
+            .filter(|e| e.0 == b as i64)
+            .map(|e| (e.1, e.2))
+            .collect();
+        let mut from: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+        for (i, (p, _)) in mine.iter().enumerate() {
+            from.entry(key(*p)).or_default().push(i);
+        }
+        let mut used = vec![false; mine.len()];
+        for start in 0..mine.len() {
+            if used[start] {
+                continue;
+            }
+            used[start] = true;
+            let first = key(mine[start].0);
+            let mut ring = vec![mine[start].0];
+            let mut edge = start;
+            loop {
+                let (p, q) = mine[edge];
+                if key(q) == first {
+                    break;
+                }
+                ring.push(q);
+                // the edge leaving q first met turning clockwise from q → p
+                let back = angle(q, p);
+                let next = from.get(&key(q)).and_then(|v| {
+                    v.iter().copied().filter(|&e| !used[e]).min_by(|&x, &y| {
+                        let cw = |e: usize| {
+                            (back - angle(mine[e].0, mine[e].1)).rem_euclid(std::f64::consts::TAU)
+                        };
+                        cw(x).total_cmp(&cw(y))
+                    })
+                });
+                let Some(next) = next else {
+                    break; // an open chain: kept as it is
+                };
+                used[next] = true;
+                edge = next;
+            }
+            if crate::geometry::polygon::signed_area(&ring) < 0.0 {
+                ring.reverse();
+            }
+            loops.push(ring);
+        }
+        loops.sort_by(|a, b| {
+            let area = |r: &Vec<[f64; 2]>| crate::geometry::polygon::signed_area(r).abs();
+            area(b).total_cmp(&area(a))
+        });
+    }
+    out
+}
+
 /// Frame `index` of the run in `dir` coloured by `field`: see the module doc.
 pub fn frame_scene(dir: &Path, index: usize, field: Field) -> Result<Scene, String> {
-    let frames = run_frames(dir)?;
-    let (time, file) = frames.get(index).ok_or_else(|| {
-        format!(
-            "{}: no frame {index} (blocks.pvd has frames 0 … {})",
-            dir.display(),
-            frames.len() - 1
-        )
-    })?;
-    let g = read_vtu(&dir.join(file))?;
-    let values = cell_values(&g, field)?;
-    let (lo, hi) = values
+    Ok(frame_scene_in(dir, index, field, None)?.0)
+}
+
+/// [`frame_scene`] with the colour bar's range given (`range`: the lowest and highest
+/// values, e.g. those of a whole sequence; None: the frame's own), and the frame's own
+/// range of values returned beside the scene.
+pub fn frame_scene_in(
+    dir: &Path,
+    index: usize,
+    field: Field,
+    range: Option<(f64, f64)>,
+) -> Result<(Scene, (f64, f64)), String> {
+    let frame = read_frame(dir, index)?;
+    let g = &frame.blocks;
+    let values = cell_values(g, field)?;
+    let own = values
         .iter()
         .filter(|v| v.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
             (a.min(v), b.max(v))
         });
-    let (lo, hi) = if lo > hi { (0.0, 1.0) } else { (lo, hi) };
+    let (lo, hi) = match range {
+        Some(r) if r.0 <= r.1 => r,
+        _ if own.0 > own.1 => (0.0, 1.0),
+        _ => own,
+    };
     let (factor, unit) = unit(field, lo.abs().max(hi.abs()));
-    let mut s = Scene::default();
-    let step = step_of(file);
-    s.title = format!(
-        "{} — {}t = {} s — {}",
-        dir.display(),
-        step.map_or(String::new(), |k| format!("step {k}, ")),
-        time,
-        field.name()
-    );
+    let mut s = Scene {
+        title: format!(
+            "{} — {}t = {} s — {}",
+            dir.display(),
+            frame.step.map_or(String::new(), |k| format!("step {k}, ")),
+            frame.time,
+            field.name()
+        ),
+        ..Scene::default()
+    };
     let span = hi - lo;
     for (cell, v) in g.cells.iter().zip(&values) {
         let t = if span > 0.0 { (v - lo) / span } else { 0.5 };
@@ -355,39 +527,9 @@ pub fn frame_scene(dir: &Path, index: usize, field: Field) -> Result<Scene, Stri
             outline: None,
         });
     }
-    // block outlines: the cell edges not shared with another cell of the same block
-    let blocks = g.cell_data.get("block").map(|(_, b)| b.clone());
-    let q = {
-        let (mut mn, mut mx) = (f64::INFINITY, f64::NEG_INFINITY);
-        for p in &g.points {
-            mn = mn.min(p[0]).min(p[1]);
-            mx = mx.max(p[0]).max(p[1]);
-        }
-        ((mx - mn).abs().max(1e-9)) * 1e-7
-    };
-    let key = |p: [f64; 2]| ((p[0] / q).round() as i64, (p[1] / q).round() as i64);
-    type Edge = (i64, (i64, i64), (i64, i64));
-    let mut count: HashMap<Edge, usize> = HashMap::new();
-    for (i, cell) in g.cells.iter().enumerate() {
-        let b = blocks.as_ref().map_or(0, |b| b[i] as i64);
-        for k in 0..cell.len() {
-            let (a, c) = (
-                key(g.points[cell[k]]),
-                key(g.points[cell[(k + 1) % cell.len()]]),
-            );
-            *count.entry((b, a.min(c), a.max(c))).or_default() += 1;
-        }
-    }
-    for (i, cell) in g.cells.iter().enumerate() {
-        let b = blocks.as_ref().map_or(0, |b| b[i] as i64);
-        for k in 0..cell.len() {
-            let (pa, pc) = (g.points[cell[k]], g.points[cell[(k + 1) % cell.len()]]);
-            let (a, c) = (key(pa), key(pc));
-            if count.get(&(b, a.min(c), a.max(c))) == Some(&1) {
-                s.lines
-                    .push((vec![(pa[0], pa[1]), (pc[0], pc[1])], (0, 0, 0), 1));
-            }
-        }
+    for (_, pa, pc) in outline_edges(g) {
+        s.lines
+            .push((vec![(pa[0], pa[1]), (pc[0], pc[1])], (0, 0, 0), 1));
     }
     s.colour_bar = Some((
         lo / factor,
@@ -395,32 +537,88 @@ pub fn frame_scene(dir: &Path, index: usize, field: Field) -> Result<Scene, Stri
         format!("{} ({unit})", field.name()),
     ));
     // contacts of the same step
-    if let (Some(step), Ok(contacts)) = (step, read_pvd(&dir.join("contacts.pvd"))) {
-        if let Some((_, cfile)) = contacts.iter().find(|(_, f)| step_of(f) == Some(step)) {
-            let c = read_vtu(&dir.join(cfile))?;
-            let states = c.cell_data.get("state").map(|(_, v)| v.clone());
-            let mut seen = [false; 3];
-            for (i, cell) in c.cells.iter().enumerate() {
-                let st = states.as_ref().map_or(0, |v| v[i] as usize).min(2);
-                seen[st] = true;
-                let p = c.points[cell[0]];
-                s.markers.push(SceneMarker {
-                    at: (p[0], p[1]),
-                    shape: MarkerShape::Circle,
-                    colour: [GREY, (44, 160, 44), RED][st],
-                    size: 3,
-                });
-            }
-            for (k, name) in ["contact open", "contact stick", "contact slide"]
-                .iter()
-                .enumerate()
-            {
-                if seen[k] {
-                    s.legend
-                        .push((name.to_string(), [GREY, (44, 160, 44), RED][k]));
-                }
+    if let Some(c) = &frame.contacts {
+        let states = c.cell_data.get("state").map(|(_, v)| v.clone());
+        let mut seen = [false; 3];
+        for (i, cell) in c.cells.iter().enumerate() {
+            let st = states.as_ref().map_or(0, |v| v[i] as usize).min(2);
+            seen[st] = true;
+            let p = c.points[cell[0]];
+            s.markers.push(SceneMarker {
+                at: (p[0], p[1]),
+                shape: MarkerShape::Circle,
+                colour: [GREY, (44, 160, 44), RED][st],
+                size: 3,
+            });
+        }
+        for (k, name) in ["contact open", "contact stick", "contact slide"]
+            .iter()
+            .enumerate()
+        {
+            if seen[k] {
+                s.legend
+                    .push((name.to_string(), [GREY, (44, 160, 44), RED][k]));
             }
         }
     }
-    Ok(s)
+    Ok((s, own))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A grid of cells of the given blocks (each cell with its own copies of its points).
+    fn grid(cells: &[(usize, Vec<[f64; 2]>)]) -> ReadGrid {
+        let mut g = ReadGrid::default();
+        let mut blocks = Vec::new();
+        for (b, pts) in cells {
+            let first = g.points.len();
+            g.points.extend(pts);
+            g.cells.push((first..first + pts.len()).collect());
+            blocks.push(*b as f64);
+        }
+        g.cell_data.insert("block".into(), (1, blocks));
+        g
+    }
+
+    #[test]
+    fn outlines_join_the_unshared_edges_of_each_block() {
+        // block 0: a unit square as two triangles; block 1: a triangle touching it along
+        // x = 1 (an edge of another block is still an outline)
+        let g = grid(&[
+            (0, vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]),
+            (0, vec![[0.0, 0.0], [1.0, 1.0], [0.0, 1.0]]),
+            (1, vec![[1.0, 0.0], [2.0, 0.5], [1.0, 1.0]]),
+        ]);
+        assert_eq!(outline_edges(&g).len(), 4 + 3);
+        let o = block_outlines(&g);
+        assert_eq!(o.len(), 2);
+        assert_eq!(o[0].len(), 1, "one outline");
+        let square = &o[0][0];
+        assert_eq!(square.len(), 4);
+        assert!((crate::geometry::polygon::signed_area(square) - 1.0).abs() < 1e-15);
+        assert!((crate::geometry::polygon::signed_area(&o[1][0]) - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_block_whose_elements_touch_at_a_point_has_two_outlines() {
+        // two squares touching at (1, 1), the lower one as two triangles listed around the
+        // upper one: at (1, 1) the upper square's edge is found first, and following it
+        // would walk a figure of eight
+        let g = grid(&[
+            (0, vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]),
+            (0, vec![[1.0, 1.0], [3.0, 1.0], [3.0, 3.0], [1.0, 3.0]]),
+            (0, vec![[0.0, 0.0], [1.0, 1.0], [0.0, 1.0]]),
+        ]);
+        let o = block_outlines(&g);
+        assert_eq!(o[0].len(), 2, "{:?}", o[0]);
+        assert_eq!((o[0][0].len(), o[0][1].len()), (4, 4));
+        // the largest first, both counter-clockwise
+        let areas: Vec<f64> = o[0]
+            .iter()
+            .map(|r| crate::geometry::polygon::signed_area(r))
+            .collect();
+        assert!((areas[0] - 4.0).abs() < 1e-15 && (areas[1] - 1.0).abs() < 1e-15);
+    }
 }

@@ -85,9 +85,49 @@ pub struct FrictionParams {
     pub tan_phi: f64,
     /// Cohesion as a force, N/m: cohesion stress × tributary length.
     pub cohesion: f64,
+    /// Normal dashpot over the step, c_N/Δt (N/m per m; 0: none), see
+    /// [`crate::contact::restitution`].
+    pub dashpot: f64,
+    /// Normal gap at the step's start, g_N⁰ (the dashpot acts on g_N − g_N⁰).
+    pub gn0: f64,
 }
 
 impl FrictionParams {
+    /// The normal force of a closed contact at g_N: `p_N g_N`, plus the dashpot's
+    /// `(c_N/Δt)(g_N − g_N⁰)` when there is one.
+    #[inline]
+    pub fn closed_normal(&self, gn: f64) -> f64 {
+        if self.dashpot == 0.0 {
+            self.pn * gn
+        } else {
+            self.pn * gn + self.dashpot * (gn - self.gn0)
+        }
+    }
+
+    /// ∂t_N/∂g_N of a closed contact: p_N + c_N/Δt.
+    #[inline]
+    pub fn normal_stiffness(&self) -> f64 {
+        self.pn + self.dashpot
+    }
+
+    /// Whether the contact is closed at g_N: penetrating, with a compressive normal force
+    /// (a dashpot never pulls: the contact opens where it would).
+    #[inline]
+    pub fn is_closed(&self, gn: f64) -> bool {
+        gn < 0.0 && (self.dashpot == 0.0 || self.closed_normal(gn) < 0.0)
+    }
+
+    /// The spring's share p_N g_N of a closed contact's normal force `tn` (without the
+    /// dashpot's).
+    #[inline]
+    pub fn spring_normal(&self, tn: f64) -> f64 {
+        if self.dashpot == 0.0 || tn == 0.0 {
+            tn
+        } else {
+            self.pn * (tn + self.dashpot * self.gn0) / (self.pn + self.dashpot)
+        }
+    }
+
     /// Shear strength `S = |t_N| tan φ + c` for the normal force `tn` (≤ 0).
     #[inline]
     pub fn strength(&self, tn: f64) -> f64 {
@@ -143,7 +183,7 @@ pub fn open_response() -> LawResponse {
 /// The stick (elastic) response at (g_N, Δg_S), also at a gap (g_N ≥ 0, a contact held
 /// closed by the iteration): `t_N = p_N g_N`, `t_S = p_S (g_S^e|ₙ + Δg_S)`.
 pub fn stick_response(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> LawResponse {
-    stick(p, h, p.pn * gn, dgs)
+    stick(p, h, p.closed_normal(gn), dgs)
 }
 
 impl LawResponse {
@@ -178,7 +218,7 @@ fn stick(p: &FrictionParams, h: &ShearHistory, tn: f64, dgs: f64) -> LawResponse
     LawResponse {
         tn,
         ts: p.ps * ge,
-        dtn_dgn: p.pn,
+        dtn_dgn: p.normal_stiffness(),
         dtn_dgs: 0.0,
         dts_dgn: 0.0,
         dts_dgs: p.ps,
@@ -190,10 +230,10 @@ fn stick(p: &FrictionParams, h: &ShearHistory, tn: f64, dgs: f64) -> LawResponse
 
 /// Implicit return mapping (see the module docs).
 pub fn return_mapping(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> LawResponse {
-    if gn >= 0.0 {
+    if !p.is_closed(gn) {
         return LawResponse::open();
     }
-    let tn = p.pn * gn;
+    let tn = p.closed_normal(gn);
     let strength = p.strength(tn);
     let trial = p.ps * (h.ge + dgs);
     // mutation check (scripts/mutants; never enabled in CI): no projection on the cone
@@ -225,9 +265,9 @@ pub fn slide(
     LawResponse {
         tn,
         ts,
-        dtn_dgn: p.pn,
+        dtn_dgn: p.normal_stiffness(),
         dtn_dgs: 0.0,
-        dts_dgn: -s * p.pn * p.tan_phi,
+        dts_dgn: -s * p.normal_stiffness() * p.tan_phi,
         dts_dgs: 0.0,
         status: ContactStatus::Slide,
         ge: ts / p.ps,
@@ -237,10 +277,10 @@ pub fn slide(
 
 /// Conventional open–close rule (see the module docs).
 pub fn conventional(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> LawResponse {
-    if gn >= 0.0 {
+    if !p.is_closed(gn) {
         return LawResponse::open();
     }
-    let tn = p.pn * gn;
+    let tn = p.closed_normal(gn);
     match h.status {
         // A contact that was open at the start of the step has no elastic shear history
         // to overshoot from: it is limited by the current strength (see the module docs).
@@ -255,7 +295,7 @@ pub fn conventional(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> 
             // friction force of the last committed normal force, lowered in proportion
             // when the contact unloads (r < 1) so that it vanishes as the contact opens
             let (r, dr_dgn) = if h.tn < 0.0 && tn > h.tn {
-                (tn / h.tn, p.pn / h.tn)
+                (tn / h.tn, p.normal_stiffness() / h.tn)
             } else {
                 (1.0, 0.0)
             };
@@ -264,7 +304,7 @@ pub fn conventional(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> 
             LawResponse {
                 tn,
                 ts,
-                dtn_dgn: p.pn,
+                dtn_dgn: p.normal_stiffness(),
                 dtn_dgs: 0.0,
                 dts_dgn: s * p.strength(h.tn) * dr_dgn,
                 dts_dgs: 0.0,
@@ -369,6 +409,8 @@ mod tests {
         ps: 1.0e9,
         tan_phi: 0.577_350_269_189_625_8,
         cohesion: 0.0,
+        dashpot: 0.0,
+        gn0: 0.0,
     };
 
     fn committed(ge: f64, status: ContactStatus, tn: f64, slide_sign: f64) -> ShearHistory {

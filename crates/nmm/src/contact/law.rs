@@ -154,7 +154,7 @@ impl FrictionLaw for ReturnMapping {
         dgs: f64,
         branch: Branch,
     ) -> LawResponse {
-        let tn = p.pn * gn;
+        let tn = p.closed_normal(gn);
         match branch {
             Branch::Open => friction::open_response(),
             Branch::Stick => friction::stick_response(p, h, gn, dgs),
@@ -236,7 +236,7 @@ impl FrictionLaw for Conventional {
     ) -> LawResponse {
         match branch {
             Branch::Open => friction::open_response(),
-            _ if gn < 0.0 => friction::conventional(p, h, gn, dgs),
+            _ if p.is_closed(gn) => friction::conventional(p, h, gn, dgs),
             // held closed at a gap (the predictor): the elastic stick spring
             _ => friction::stick_response(p, h, gn, dgs),
         }
@@ -256,6 +256,8 @@ mod tests {
         ps: 1.0e9,
         tan_phi: 0.577_350_269_189_625_8,
         cohesion: 1.0e3,
+        dashpot: 0.0,
+        gn0: 0.0,
     };
 
     /// On its own branch, `on_branch` is the law's pure function.

@@ -20,6 +20,7 @@ pub mod friction;
 pub mod generate;
 pub mod law;
 pub mod narrow;
+pub mod restitution;
 pub mod set;
 
 pub use broad::sweep_and_prune;

@@ -58,6 +58,7 @@ use super::broad::sweep_and_prune;
 use super::friction::{ContactStatus, FrictionParams, LawResponse, ShearHistory};
 use super::law::{law_for, Branch, FrictionLaw, IterationContext};
 use super::narrow::{vertex_edge_contacts, VertexEdge};
+use super::restitution::DashpotTable;
 use crate::cover::basis::{ELEMENT_DOFS, MAX_ELEMENT_DOFS, NO_DOF};
 use crate::cover::{barycentric, Discretisation};
 use crate::geometry::{cross, dot, norm, sub, Aabb, Vec2};
@@ -188,6 +189,8 @@ pub struct Contact {
     pub tangent: Vec2,
     /// Joint that made the edge block's face, if any (it chose the interface).
     pub joint: Option<usize>,
+    /// The interface's restitution, if it has one (its dashpot is in `params`).
+    pub restitution: Option<f64>,
 }
 
 /// (a + b_N · v, b_S · v) over a contact's rows.
@@ -321,6 +324,65 @@ pub struct ContactSet {
     generation: u64,
     /// Unknowns of each contact (2 × the basis's unknowns per element).
     row_len: usize,
+    /// What the contacts dissipated in the last committed step.
+    dissipation: StepDissipation,
+    /// The blocks' masses (restitution dashpots), `f64::INFINITY` for fixed blocks.
+    block_mass: Vec<f64>,
+    /// The time step of the coming solve (`None`: static).
+    step_dt: Option<f64>,
+    /// The dashpot tables of the restitutions met so far.
+    dashpot_tables: Vec<std::sync::Arc<DashpotTable>>,
+}
+
+/// The energy balance of the contacts over one committed step (J per metre of thickness).
+///
+/// Over the step a contact's forces at the step's end (t_N, t_S) do the work
+/// t_N Δg_N + t_S Δg_S on its relative motion (Δg_N = g_N − g_N⁰, from the gap at the step's
+/// start). Of that work,
+/// * `friction` is t_S Δγ, the force on the Coulomb limit times the plastic slip of the
+///   step (≥ 0: the slip is along the force);
+/// * the springs store the change of ½ t_N²/p_N + ½ t_S²/p_S, from its value at the step's
+///   start, `start_energy` (the normal spring at the gap g_N⁰, the shear spring at its
+///   committed elastic gap);
+/// * `algorithmic` is the rest: what the implicit scheme dissipates by taking the forces at
+///   the step's end. For a contact closed over the whole step it is
+///   (Δt_N)²/2p_N + (Δt_S^e)²/2p_S ≥ 0, with Δt_S^e the change of the elastic shear force;
+///   for one closing within the step it also holds −t_N g_N⁰ ≥ 0 (the force at the end,
+///   times the gap still open at the start).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StepDissipation {
+    pub friction: f64,
+    /// The restitution dashpots' (c_N/Δt)(Δg_N)², ≥ 0.
+    pub damping: f64,
+    pub algorithmic: f64,
+    /// Σ of the contacts' spring energies at the step's start.
+    pub start_energy: f64,
+}
+
+/// [`StepDissipation`] of one contact, whose committed response at the step's end is
+/// `c.response` at the gaps (g_N, Δg_S) = (`gn`, `gs`); `c.history` is still the state at
+/// the step's start.
+fn step_dissipation(c: &Contact, gn: f64, gs: f64) -> StepDissipation {
+    let r = &c.response;
+    let p = &c.params;
+    if r.status == ContactStatus::Open && c.gn0 >= 0.0 && c.history.ge == 0.0 {
+        return StepDissipation::default();
+    }
+    let tn0 = p.pn * c.gn0.min(0.0);
+    let ts0 = p.ps * c.history.ge;
+    let start = 0.5 * tn0 * tn0 / p.pn + 0.5 * ts0 * ts0 / p.ps;
+    let tn_spring = p.spring_normal(r.tn);
+    let end = 0.5 * tn_spring * tn_spring / p.pn + 0.5 * r.ts * r.ts / p.ps;
+    let work = r.tn * (gn - c.gn0) + r.ts * gs;
+    let friction = r.ts * r.slip;
+    // the restitution dashpot's force (c_N/Δt) Δg_N over Δg_N
+    let damping = (r.tn - tn_spring) * (gn - c.gn0);
+    StepDissipation {
+        friction,
+        damping,
+        algorithmic: work - (end - start) - friction - damping,
+        start_energy: start,
+    }
 }
 
 impl Default for ContactSet {
@@ -337,6 +399,10 @@ impl Default for ContactSet {
             faces: Vec::new(),
             generation: 0,
             row_len: CONTACT_DOFS,
+            dissipation: StepDissipation::default(),
+            block_mass: Vec::new(),
+            step_dt: None,
+            dashpot_tables: Vec::new(),
         }
     }
 }
@@ -597,6 +663,9 @@ impl ContactSet {
                         ps: iface.shear_penalty * density * weight,
                         tan_phi: iface.friction_angle.to_radians().tan(),
                         cohesion: iface.cohesion * weight,
+                        // set by `apply_dashpots` once every contact of the step is known
+                        dashpot: 0.0,
+                        gn0: ve.gap,
                     };
                     // a contact new to this step that touches: the predictor holds it closed
                     // at the first iterate (a contact of the last step keeps the state the
@@ -626,9 +695,82 @@ impl ContactSet {
                         normal: ve.normal,
                         tangent: ve.tangent,
                         joint,
+                        restitution: iface.restitution,
                     });
                 }
             }
+        }
+        self.apply_dashpots();
+    }
+
+    /// The blocks' masses (kg per m of thickness; `f64::INFINITY` for a fixed block): the
+    /// restitution dashpots' oscillators ([`crate::contact::restitution`]).
+    pub fn set_block_masses(&mut self, masses: Vec<f64>) {
+        self.block_mass = masses;
+        self.apply_dashpots();
+    }
+
+    /// The time step of the coming solve (`None`: a static step, no dashpot).
+    pub fn set_time_step(&mut self, dt: Option<f64>) {
+        if self.step_dt != dt {
+            self.step_dt = dt;
+            self.apply_dashpots();
+        }
+    }
+
+    /// Each contact's restitution dashpot c_N/Δt for the current time step (see
+    /// [`crate::contact::restitution`]): the contact's oscillator from its normal penalty and
+    /// its blocks' masses, shared among each block's contacts in proportion to their
+    /// penalties (all the contacts detected for the step count).
+    fn apply_dashpots(&mut self) {
+        let dt = match self.step_dt {
+            Some(dt) if dt > 0.0 && self.contacts.iter().any(|c| c.restitution.is_some()) => dt,
+            _ => {
+                for c in &mut self.contacts {
+                    c.params.dashpot = 0.0;
+                }
+                return;
+            }
+        };
+        let mut stiffness = vec![0.0; self.block_mass.len()];
+        for c in &self.contacts {
+            for b in [c.key.0, c.key.2] {
+                if let Some(k) = stiffness.get_mut(b) {
+                    *k += c.params.pn;
+                }
+            }
+        }
+        for c in &mut self.contacts {
+            let Some(e) = c.restitution else {
+                c.params.dashpot = 0.0;
+                continue;
+            };
+            let pn = c.params.pn;
+            let share = |b: usize| {
+                let m = self.block_mass.get(b).copied().unwrap_or(f64::INFINITY);
+                if m.is_finite() {
+                    m * pn / stiffness[b]
+                } else {
+                    f64::INFINITY
+                }
+            };
+            let inv = 1.0 / share(c.key.0) + 1.0 / share(c.key.2);
+            if inv.is_nan() || inv <= 0.0 || !inv.is_finite() {
+                c.params.dashpot = 0.0;
+                continue;
+            }
+            let m = 1.0 / inv;
+            let omega_dt = (pn / m).sqrt() * dt;
+            let table = match self.dashpot_tables.iter().find(|t| t.e == e) {
+                Some(t) => t.clone(),
+                None => {
+                    let t = std::sync::Arc::new(DashpotTable::new(e));
+                    self.dashpot_tables.push(t.clone());
+                    t
+                }
+            };
+            let zeta = table.zeta(omega_dt);
+            c.params.dashpot = 2.0 * zeta * (pn * m).sqrt() / dt;
         }
     }
 
@@ -862,10 +1004,16 @@ impl ContactSet {
                 if r.status == ContactStatus::Open {
                     0.0
                 } else {
-                    0.5 * r.tn * r.tn / c.params.pn + 0.5 * r.ts * r.ts / c.params.ps
+                    let tn = c.params.spring_normal(r.tn);
+                    0.5 * tn * tn / c.params.pn + 0.5 * r.ts * r.ts / c.params.ps
                 }
             })
             .sum()
+    }
+
+    /// The energy the contacts dissipated in the last committed step (see [`StepDissipation`]).
+    pub fn step_dissipation(&self) -> StepDissipation {
+        self.dissipation
     }
 
     /// Commit the converged increment: every contact's law response becomes its history.
@@ -874,10 +1022,16 @@ impl ContactSet {
         self.commits += 1;
         self.committed.clear();
         self.seen.clear();
+        self.dissipation = StepDissipation::default();
         for c in self.contacts.iter_mut() {
             self.seen.insert(c.key);
             let (gn, gs) = c.gaps(du);
             c.response = law.response(&c.params, &c.history, gn, gs);
+            let d = step_dissipation(c, gn, gs);
+            self.dissipation.friction += d.friction;
+            self.dissipation.damping += d.damping;
+            self.dissipation.algorithmic += d.algorithmic;
+            self.dissipation.start_energy += d.start_energy;
             let h = law.commit(&c.params, &c.history, &c.response);
             c.history = h;
             if c.response.status != ContactStatus::Open {

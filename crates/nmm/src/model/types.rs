@@ -200,6 +200,10 @@ pub struct Interface {
     pub cohesion: f64,
     pub normal_penalty: f64,
     pub shear_penalty: f64,
+    /// Restitution of impacts e (rebound speed / impact speed, 0 < e ≤ 1): a normal dashpot
+    /// calibrated against the time integration ([`crate::contact::restitution`]); `None`:
+    /// no dashpot (the impacts lose only what the time integration takes).
+    pub restitution: Option<f64>,
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -719,6 +719,7 @@ fn interfaces(
             "cohesion",
             "normal_penalty",
             "shear_penalty",
+            "restitution",
         ])?;
         if f.has("blocks") && f.has("joint") {
             return Err(f.err("joint", "give either `blocks` or `joint`, not both"));
@@ -793,12 +794,25 @@ fn interfaces(
         }
         let normal_penalty = positive(&f, "normal_penalty", f.req("normal_penalty", number)?)?;
         let shear_penalty = positive(&f, "shear_penalty", f.req("shear_penalty", number)?)?;
+        let restitution = f.opt("restitution", number)?;
+        if let Some(e) = restitution {
+            if e.is_nan() || e <= 0.0 || e > 1.0 {
+                return Err(f.err(
+                    "restitution",
+                    format!(
+                        "must be in (0, 1] (rebound speed / impact speed), got {}",
+                        fmt_num(e)
+                    ),
+                ));
+            }
+        }
         out.push(Interface {
             scope,
             friction_angle,
             cohesion,
             normal_penalty,
             shear_penalty,
+            restitution,
         });
     }
     if default_at.is_none() && blocks.len() >= 2 {

@@ -685,17 +685,11 @@ pub fn colour_map(t: f64) -> Rgb {
     (mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
-/// Draws `scene` into `path`, PNG or SVG by its extension (`.png`, `.svg`, any case),
-/// `width` pixels wide, the height from the data's aspect ratio (within the size limits).
-/// The legend and the colour bar take a column on the right.
-pub fn plot_scene(path: &Path, scene: &Scene, width: u32) -> Result<(), PlotError> {
-    if !(MIN_SIZE..=MAX_SIZE).contains(&width) {
-        return Err(PlotError::InvalidSize {
-            width,
-            height: 0,
-            panels: 1,
-        });
-    }
+/// The view of a scene: its x and y ranges in data coordinates (the extent of its
+/// polygons, lines, markers and arrows, widened by 4 % on each side), as [`plot_scene`]
+/// draws it. The union of several scenes' views (see [`union_view`]) keeps a sequence of
+/// pictures in one frame of reference.
+pub fn scene_view(scene: &Scene) -> (Range<f64>, Range<f64>) {
     let pts = || {
         scene
             .polygons
@@ -706,17 +700,62 @@ pub fn plot_scene(path: &Path, scene: &Scene, width: u32) -> Result<(), PlotErro
             .chain(scene.arrows.iter().flat_map(|a| [a.0, a.1]))
             .filter(|p| p.0.is_finite() && p.1.is_finite())
     };
-    let xr = padded_range(pts().map(|p| p.0), 0.04);
-    let yr = padded_range(pts().map(|p| p.1), 0.04);
+    (
+        padded_range(pts().map(|p| p.0), 0.04),
+        padded_range(pts().map(|p| p.1), 0.04),
+    )
+}
+
+/// The smallest view holding both `a` and `b`.
+pub fn union_view(
+    a: &(Range<f64>, Range<f64>),
+    b: &(Range<f64>, Range<f64>),
+) -> (Range<f64>, Range<f64>) {
+    (
+        a.0.start.min(b.0.start)..a.0.end.max(b.0.end),
+        a.1.start.min(b.1.start)..a.1.end.max(b.1.end),
+    )
+}
+
+/// The layout of a scene drawn `width` pixels wide in `view`: the height in pixels and the
+/// width of the right-hand column (legend and colour bar).
+fn scene_layout(scene: &Scene, width: u32, view: &(Range<f64>, Range<f64>)) -> (u32, u32) {
+    let (xr, yr) = view;
     let side = if scene.colour_bar.is_some() || !scene.legend.is_empty() {
         190u32
     } else {
         0
     };
-    let (label_x, label_y, top) = (40u32, 70u32, 45u32);
+    let (label_x, label_y, top) = (SCENE_LABELS.0, SCENE_LABELS.1, 45u32);
     let plot_w = width.saturating_sub(label_y + 20 + side).max(50) as f64;
     let ratio = (yr.end - yr.start) / (xr.end - xr.start);
     let height = ((plot_w * ratio) as u32 + label_x + top).clamp(MIN_SIZE.max(360), MAX_SIZE);
+    (height, side)
+}
+
+/// Pixels of the x and y axes' labels of a scene.
+const SCENE_LABELS: (u32, u32) = (40, 70);
+
+fn check_width(width: u32) -> Result<(), PlotError> {
+    if (MIN_SIZE..=MAX_SIZE).contains(&width) {
+        Ok(())
+    } else {
+        Err(PlotError::InvalidSize {
+            width,
+            height: 0,
+            panels: 1,
+        })
+    }
+}
+
+/// Draws `scene` into `path`, PNG or SVG by its extension (`.png`, `.svg`, any case),
+/// `width` pixels wide, the height from the data's aspect ratio (within the size limits).
+/// The legend and the colour bar take a column on the right.
+pub fn plot_scene(path: &Path, scene: &Scene, width: u32) -> Result<(), PlotError> {
+    check_width(width)?;
+    let (xr, yr) = scene_view(scene);
+    let (height, side) = scene_layout(scene, width, &(xr.clone(), yr.clone()));
+    let (label_x, label_y) = SCENE_LABELS;
     ensure_font()?;
     let ext = path
         .extension()
@@ -738,6 +777,107 @@ pub fn plot_scene(path: &Path, scene: &Scene, width: u32) -> Result<(), PlotErro
                 .map_err(|e| fail(e.to_string()))
         }
         _ => Err(fail("the file name must end in .png or .svg".into())),
+    }
+}
+
+/// An animated GIF of scenes drawn one after the other in one view and at one size
+/// (`nmm plot RUN_DIR --every K` writes one): each frame is drawn as [`plot_scene`] draws
+/// a PNG, into memory, reduced to its own 256-colour palette (NeuQuant, `gif`'s
+/// `from_rgb_speed`) and written at once, so only one picture is held at a time. It plays
+/// in a loop, `delay` hundredths of a second per frame.
+pub struct GifAnimation {
+    path: PathBuf,
+    encoder: gif::Encoder<std::io::BufWriter<std::fs::File>>,
+    view: (Range<f64>, Range<f64>),
+    size: (u32, u32),
+    delay: u16,
+    frames: usize,
+}
+
+impl GifAnimation {
+    /// Starts the animation in `path`: frames `width` pixels wide showing `view` (e.g. the
+    /// [`union_view`] of every frame's [`scene_view`]); the height is that of the first
+    /// scene drawn in this view, `first` (not drawn here: give it to [`Self::add`]).
+    pub fn create(
+        path: &Path,
+        first: &Scene,
+        width: u32,
+        view: (Range<f64>, Range<f64>),
+        delay: u16,
+    ) -> Result<GifAnimation, PlotError> {
+        check_width(width)?;
+        let (height, _) = scene_layout(first, width, &view);
+        let fail = |message: String| PlotError::Draw {
+            path: path.to_path_buf(),
+            message,
+        };
+        let file = std::fs::File::create(path).map_err(|e| fail(e.to_string()))?;
+        let mut encoder = gif::Encoder::new(
+            std::io::BufWriter::new(file),
+            width as u16,
+            height as u16,
+            &[],
+        )
+        .map_err(|e| fail(e.to_string()))?;
+        encoder
+            .set_repeat(gif::Repeat::Infinite)
+            .map_err(|e| fail(e.to_string()))?;
+        Ok(GifAnimation {
+            path: path.to_path_buf(),
+            encoder,
+            view,
+            size: (width, height),
+            delay,
+            frames: 0,
+        })
+    }
+
+    /// Draws `scene` as the next frame.
+    pub fn add(&mut self, scene: &Scene) -> Result<(), PlotError> {
+        ensure_font()?;
+        let (w, h) = self.size;
+        let fail = |message: String| PlotError::Draw {
+            path: self.path.clone(),
+            message,
+        };
+        let side = if scene.colour_bar.is_some() || !scene.legend.is_empty() {
+            190u32
+        } else {
+            0
+        };
+        let mut pixels = vec![0u8; w as usize * h as usize * 3];
+        {
+            let root = BitMapBackend::with_buffer(&mut pixels, (w, h)).into_drawing_area();
+            draw_scene(
+                &root,
+                scene,
+                (&self.view.0, &self.view.1),
+                SCENE_LABELS,
+                side,
+            )
+            .map_err(|e| fail(e.to_string()))?;
+        }
+        let mut frame = gif::Frame::from_rgb_speed(w as u16, h as u16, &pixels, 10);
+        frame.delay = self.delay;
+        self.encoder
+            .write_frame(&frame)
+            .map_err(|e| fail(e.to_string()))?;
+        self.frames += 1;
+        Ok(())
+    }
+
+    /// Writes the end of the file; returns the number of frames.
+    pub fn finish(self) -> Result<usize, PlotError> {
+        let path = self.path;
+        let mut out = self.encoder.into_inner().map_err(|e| PlotError::Draw {
+            path: path.clone(),
+            message: e.to_string(),
+        })?;
+        std::io::Write::flush(&mut out).map_err(|e| PlotError::Draw {
+            path,
+            message: e.to_string(),
+        })?;
+        Ok(self.frames)
     }
 }
 

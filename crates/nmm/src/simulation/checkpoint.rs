@@ -28,7 +28,7 @@ use std::time::Duration;
 
 const MAGIC: &[u8; 8] = b"NMMCKPT\n";
 /// Bumped whenever the layout below changes.
-pub const FORMAT: u32 = 1;
+pub const FORMAT: u32 = 2;
 
 /// The program version a checkpoint must come from.
 pub fn program_version() -> String {
@@ -344,11 +344,18 @@ impl Simulation {
         w.f(self.last_dt);
         w.f(self.last_max_du);
         let e = &self.energy;
-        for x in e
-            .components()
-            .into_iter()
-            .chain([e.initial, e.max, e.scale])
-        {
+        for x in e.components().into_iter().chain([
+            e.initial,
+            e.max,
+            e.scale,
+            e.friction,
+            e.damping,
+            e.algorithmic,
+            e.flow,
+            e.constraint_work,
+            e.static_reset,
+            e.contact_update,
+        ]) {
             w.f(x);
         }
         let c = self.contacts.saved();
@@ -449,6 +456,13 @@ impl Simulation {
             initial: r.f()?,
             max: r.f()?,
             scale: r.f()?,
+            friction: r.f()?,
+            damping: r.f()?,
+            algorithmic: r.f()?,
+            flow: r.f()?,
+            constraint_work: r.f()?,
+            static_reset: r.f()?,
+            contact_update: r.f()?,
         };
         let commits = r.us()?;
         let nc = r.len(80)?;

@@ -660,6 +660,15 @@ pub fn run_simulation(
         "initial_total": e.initial,
         "max_rise": e.max_rise(),
         "max_rise_relative": if e.scale > 0.0 { e.max_rise() / e.scale } else { 0.0 },
+        "constraint_work": e.constraint_work,
+        "friction_dissipation": e.friction,
+        "damping_dissipation": e.damping,
+        "algorithmic_dissipation": e.algorithmic,
+        "static_reset": e.static_reset,
+        "contact_update": e.contact_update,
+        "dissipated": e.dissipated(),
+        "balance_error": e.balance_error(),
+        "balance_error_relative": e.balance_error_relative(),
     }));
     summary.steps = sim.step;
     summary.time = sim.time;

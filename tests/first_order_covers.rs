@@ -1045,3 +1045,27 @@ fn arch_at_order_1_stands_above_its_minimum_thickness_and_collapses_below() {
     eprintln!("arch t/r 0.09 at order 1: crown moves {thin:.3e} m in 0.6 s, {cuts} cuts");
     assert!(thin > 0.1, "{thin}");
 }
+
+/// Walls at order 1: a 5×5 running-bond wall with closers (cover 0.2 m) stands for 0.3 s of
+/// dynamic release with no step cut (largest brick motion < 1 mm, elastic settlement).
+#[test]
+fn wall_at_order_1_stands_without_cuts() {
+    let mut o = nmm::generate::WallOptions::new(5, 5);
+    o.closers = true;
+    o.steps = 300;
+    let text = nmm::generate::brick_wall_model(&o).replacen("[cover]\n", "[cover]\norder = 1\n", 1);
+    assert!(text.contains("order = 1"));
+    let mut sim = Simulation::new(parse_model(&text, Path::new(".")).unwrap()).unwrap();
+    let (mut worst, mut cuts) = (0.0f64, 0);
+    for _ in 0..300 {
+        cuts += sim.advance().unwrap().cuts;
+        let v = nmm::simulation::monitor_values(&sim);
+        worst = worst.max(v[0].hypot(v[1]));
+    }
+    eprintln!(
+        "wall 5×5 at order 1: {} unknowns, top moves {worst:.3e} m, {cuts} cuts",
+        sim.n_dofs()
+    );
+    assert_eq!(cuts, 0);
+    assert!(worst < 1e-3, "{worst}");
+}

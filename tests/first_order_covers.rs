@@ -1069,3 +1069,180 @@ fn wall_at_order_1_stands_without_cuts() {
     assert_eq!(cuts, 0);
     assert!(worst < 1e-3, "{worst}");
 }
+
+/// Kirsch's plate: a circular hole of radius a in an infinite plate under σ0 along x (plane
+/// strain, E, ν): stresses and displacements in polar coordinates about the hole's centre.
+struct Kirsch {
+    a: f64,
+    s0: f64,
+    e: f64,
+    nu: f64,
+}
+
+impl Kirsch {
+    fn sigma(&self, x: Vec2) -> [f64; 3] {
+        let (r, t) = (x[0].hypot(x[1]), x[1].atan2(x[0]));
+        let (a2, a4) = ((self.a / r).powi(2), (self.a / r).powi(4));
+        let s0 = self.s0;
+        [
+            s0 * (1.0 - a2 * (1.5 * (2.0 * t).cos() + (4.0 * t).cos())
+                + 1.5 * a4 * (4.0 * t).cos()),
+            s0 * (-a2 * (0.5 * (2.0 * t).cos() - (4.0 * t).cos()) - 1.5 * a4 * (4.0 * t).cos()),
+            s0 * (-a2 * (0.5 * (2.0 * t).sin() + (4.0 * t).sin()) + 1.5 * a4 * (4.0 * t).sin()),
+        ]
+    }
+    fn u(&self, x: Vec2) -> Vec2 {
+        let (r, t) = (x[0].hypot(x[1]), x[1].atan2(x[0]));
+        let mu = self.e / (2.0 * (1.0 + self.nu));
+        let k = 3.0 - 4.0 * self.nu;
+        let (a, c) = (self.a, self.s0 * self.a / (8.0 * mu));
+        [
+            c * ((r / a) * (k + 1.0) * t.cos()
+                + 2.0 * (a / r) * ((1.0 + k) * t.cos() + (3.0 * t).cos())
+                - 2.0 * (a / r).powi(3) * (3.0 * t).cos()),
+            c * ((r / a) * (k - 3.0) * t.sin()
+                + 2.0 * (a / r) * ((1.0 - k) * t.sin() + (3.0 * t).sin())
+                - 2.0 * (a / r).powi(3) * (3.0 * t).sin()),
+        ]
+    }
+}
+
+/// The quarter plate [0, L]² less the hole (its arc a polygon of `arc` chords), Kirsch's
+/// tractions on its four straight edges (the symmetry lines included), its rigid modes held
+/// by three point springs at points where the exact displacement is zero; order 1 at cover
+/// h.
+/// Returns the relative energy error, σxx at the hole's top (the hoop stress, 3 σ0 exact) and
+/// the unknowns.
+fn kirsch_errors(h: f64, arc: usize) -> (f64, f64, usize) {
+    let k = Kirsch {
+        a: 1.0,
+        s0: 1.0e6,
+        e: 1.0e9,
+        nu: 0.25,
+    };
+    let l = 4.0;
+    let mut poly = vec![[k.a, 0.0], [l, 0.0], [l, l], [0.0, l], [0.0, k.a]];
+    for i in 1..arc {
+        let t = std::f64::consts::FRAC_PI_2 * (1.0 - i as f64 / arc as f64);
+        poly.push([k.a * t.cos(), k.a * t.sin()]);
+    }
+    let text = format!(
+        "[analysis]\nmode = \"static\"\ndt = 1.0\nsteps = 1\n[cover]\nsize = {h:?}\norder = 1\n{}\
+         [[block]]\nname = \"b\"\nmaterial = \"m\"\nvertices = {}\n\
+         [[constraint]]\nblock = \"b\"\npoint = [0.0, {l:?}]\nux = 0.0\n\
+         [[constraint]]\nblock = \"b\"\npoint = [{l:?}, 0.0]\nuy = 0.0\n\
+         [[constraint]]\nblock = \"b\"\npoint = [0.0, {a:?}]\nux = 0.0\n",
+        material(k.e, k.nu, 1000.0, "strain"),
+        points(&poly),
+        a = k.a,
+    );
+    let model = parse_model(&text, Path::new(".")).unwrap();
+    let mut sim = Simulation::new(model).unwrap();
+    let tol = 1e-9;
+    let f = traction_vector(&sim, |x, n| {
+        if (x[0] - l).abs() < tol || (x[1] - l).abs() < tol || x[0].abs() < tol || x[1].abs() < tol
+        {
+            let s = k.sigma(x);
+            [s[0] * n[0] + s[2] * n[1], s[2] * n[0] + s[1] * n[1]]
+        } else {
+            [0.0, 0.0]
+        }
+    });
+    sim.add_load_vector(&f);
+    let d0 = sim.disc.clone();
+    let top = d0.locate(0, [0.0, k.a]).unwrap();
+    sim.advance().unwrap();
+    let dm = nmm::material::elasticity_matrix(k.e, k.nu, nmm::model::Plane::Strain);
+    let table = ElementDofTable::new(&d0);
+    let b = d0.basis;
+    let (mut en, mut enn, mut near) = (0.0, 0.0, 0.0);
+    let mut ue = [0.0; MAX_ELEMENT_DOFS];
+    let mut fill = |ei: usize, ue: &mut [f64; MAX_ELEMENT_DOFS]| {
+        for (o, &g) in ue.iter_mut().zip(table.of(ei)) {
+            *o = if g == usize::MAX { 0.0 } else { sim.u[g] };
+        }
+    };
+    for (ei, e) in d0.elements.iter().enumerate() {
+        fill(ei, &mut ue);
+        let p = &e.polygon;
+        for i in 1..p.len() - 1 {
+            for (x, w) in triangle_rule(p[0], p[i], p[i + 1]) {
+                let bw = barycentric(&e.nodes, x);
+                let sh = nmm::material::stress(&dm, b.strain(e, &bw, &ue[..18]));
+                let s = k.sigma(x);
+                let ds = [sh[0] - s[0], sh[1] - s[1], sh[2] - s[2]];
+                en += w * 2.0 * nmm::material::stress_energy_density(&dm, ds);
+                enn += w * 2.0 * nmm::material::stress_energy_density(&dm, s);
+                if x[0].hypot(x[1]) < 1.2 * k.a {
+                    near += w * 2.0 * nmm::material::stress_energy_density(&dm, ds);
+                }
+            }
+        }
+    }
+    eprintln!(
+        "   near the hole (r < 1.2 a): {:.3e} of the energy error²",
+        near / en
+    );
+    fill(top.element, &mut ue);
+    let hoop = nmm::material::stress(
+        &dm,
+        b.strain(&d0.elements[top.element], &top.weights, &ue[..18]),
+    )[0];
+    ((en / enn).sqrt(), hoop, sim.n_dofs())
+}
+
+/// Acceptance: the plate with a circular hole (Kirsch, exact tractions on the outer
+/// polygon) at order 1: energy-error rate ≥ 1.7, fitted over h = a/4 … a/32 (measured 1.83;
+/// the halvings give 1.43, 1.71, 1.84, 1.92 from a/2: a/2 is not yet asymptotic), and the
+/// hoop stress at the hole within 5% at the finest size (measured +0.03%). The hole is a
+/// polygon of 512 chords (5e-6 a from the circle, below the finest error); the exact field
+/// first checks itself (Hooke on its finite-difference strains).
+///
+/// Measured and kept out: with the symmetry lines held by edge constraints (`ux = 0` on
+/// x = 0, `uy = 0` on y = 0: penalty springs c E/h on edges that cut the mesh's cells)
+/// instead of their exact tractions, the rate fell to 1.21 and the hoop stress to +3.4% at
+/// a/16: a stiff penalty on a cut edge constrains the quadratic trace of first-order covers
+/// too much (a known limitation of penalty Dirichlet conditions on cut cells).
+#[test]
+fn kirsch_plate_with_a_hole_at_order_1() {
+    let k = Kirsch {
+        a: 1.0,
+        s0: 1.0e6,
+        e: 1.0e9,
+        nu: 0.25,
+    };
+    let dm = nmm::material::elasticity_matrix(k.e, k.nu, nmm::model::Plane::Strain);
+    for x in [[1.3, 0.4], [0.2, 2.5], [3.0, 3.0]] {
+        let d = 1e-5;
+        let du = |i: usize, j: usize| {
+            let (mut p, mut m) = (x, x);
+            p[j] += d;
+            m[j] -= d;
+            (k.u(p)[i] - k.u(m)[i]) / (2.0 * d)
+        };
+        let s = nmm::material::stress(&dm, [du(0, 0), du(1, 1), du(0, 1) + du(1, 0)]);
+        let want = k.sigma(x);
+        for c in 0..3 {
+            assert!((s[c] - want[c]).abs() < 1e-5 * k.s0, "{c}: {s:?} {want:?}");
+        }
+    }
+    let hs = [0.5, 0.25, 0.125, 0.0625, 0.03125];
+    let mut errs = Vec::new();
+    let mut hoop = 0.0;
+    for &h in &hs {
+        let (e, s, n) = kirsch_errors(h, 512);
+        eprintln!(
+            "Kirsch order 1, h = {h}: {n} unknowns, energy error {e:.3e}, hoop stress {:.4} σ0",
+            s / k.s0
+        );
+        errs.push(e);
+        hoop = s;
+    }
+    let r = rate(&hs[1..], &errs[1..]);
+    eprintln!(
+        "energy rate over h = a/4 … a/32: {r:.2} (a/2 … a/32: {:.2})",
+        rate(&hs, &errs)
+    );
+    assert!(r >= 1.7, "energy rate {r}");
+    assert!((hoop / (3.0 * k.s0) - 1.0).abs() < 0.05, "hoop {hoop}");
+}

@@ -1157,7 +1157,7 @@ fn kirsch_errors(h: f64, arc: usize) -> (f64, f64, usize) {
     let b = d0.basis;
     let (mut en, mut enn, mut near) = (0.0, 0.0, 0.0);
     let mut ue = [0.0; MAX_ELEMENT_DOFS];
-    let mut fill = |ei: usize, ue: &mut [f64; MAX_ELEMENT_DOFS]| {
+    let fill = |ei: usize, ue: &mut [f64; MAX_ELEMENT_DOFS]| {
         for (o, &g) in ue.iter_mut().zip(table.of(ei)) {
             *o = if g == usize::MAX { 0.0 } else { sim.u[g] };
         }

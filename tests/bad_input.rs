@@ -219,6 +219,27 @@ fn values_out_of_range() {
             &["[cover]", "key `size`", "positive"],
         ),
         (
+            "cover order 2",
+            "size = 0.05",
+            "size = 0.05\norder = 2",
+            &[
+                "[cover]: key `order`: must be 0 (constant covers) or 1 (first-order covers), got 2",
+                "line 11)",
+            ],
+        ),
+        (
+            "cover order negative",
+            "size = 0.05",
+            "size = 0.05\norder = -1",
+            &["[cover]", "key `order`", "got -1"],
+        ),
+        (
+            "cover order not an integer",
+            "size = 0.05",
+            "size = 0.05\norder = 1.5",
+            &["[cover]", "key `order`"],
+        ),
+        (
             "poisson high",
             "poisson = 0.33",
             "poisson = 0.5",

@@ -302,6 +302,96 @@ mod tests {
         assert!(close(polygon_area(&p), a.area, 1e-14));
     }
 
+    /// Acceptance (issue 16): the moments to degree 4 are exact to 1e-14 relative — a
+    /// rectangle and a right triangle against their closed forms, an L (non-convex) against
+    /// the sum of its rectangles, and the degree-2 ones against [`polygon_moments`]; any wrong
+    /// binomial or denominator is O(1) off.
+    #[test]
+    #[allow(clippy::needless_range_loop)] // (p, q) index the moments as in the formulas
+    fn moments_to_degree_4_are_exact() {
+        let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
+        // rectangle [x0, x1] × [y0, y1] about o, scaled by s
+        let (x0, x1, y0, y1) = (1.5, 4.0, -2.0, 0.5);
+        let r = [[x0, y0], [x1, y0], [x1, y1], [x0, y1]];
+        for (o, sc) in [([0.0, 0.0], 1.0), ([2.0, -1.0], 2.5), ([1.5, -2.0], 0.37)] {
+            let m = polygon_moments_upto(&r, o, sc, 4);
+            let (a0, a1, b0, b1) = (
+                (x0 - o[0]) / sc,
+                (x1 - o[0]) / sc,
+                (y0 - o[1]) / sc,
+                (y1 - o[1]) / sc,
+            );
+            let ix = |k: i32| (a1.powi(k + 1) - a0.powi(k + 1)) / (k + 1) as f64;
+            let iy = |k: i32| (b1.powi(k + 1) - b0.powi(k + 1)) / (k + 1) as f64;
+            for p in 0..=4 {
+                for q in 0..=4 - p {
+                    let want = ix(p as i32) * iy(q as i32);
+                    if want.abs() > 1e-12 {
+                        assert!(
+                            rel(m[p][q], want) < 1e-14,
+                            "rect {p}{q}: {} vs {want}",
+                            m[p][q]
+                        );
+                    }
+                }
+            }
+        }
+        // right triangle (0,0), (a,0), (0,b): ∫ x^p y^q = a^{p+1} b^{q+1} p! q! / (p+q+2)!
+        let (a, b) = (3.0, 2.0);
+        let t = [[0.0, 0.0], [a, 0.0], [0.0, b]];
+        let m = polygon_moments_upto(&t, [0.0, 0.0], 1.0, 4);
+        let fact = |n: usize| (1..=n).product::<usize>() as f64;
+        for p in 0..=4 {
+            for q in 0..=4 - p {
+                let want = a.powi(p as i32 + 1) * b.powi(q as i32 + 1) * fact(p) * fact(q)
+                    / fact(p + q + 2);
+                assert!(
+                    rel(m[p][q], want) < 1e-14,
+                    "tri {p}{q}: {} vs {want}",
+                    m[p][q]
+                );
+            }
+        }
+        // the L = [0,2]×[0,1] ∪ [0,1]×[1,3], non-convex, about an off-centre origin
+        let l = [
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 3.0],
+            [0.0, 3.0],
+        ];
+        let r1 = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]];
+        let r2 = [[0.0, 1.0], [1.0, 1.0], [1.0, 3.0], [0.0, 3.0]];
+        let (o, sc) = ([0.3, 0.7], 1.7);
+        let (ml, m1, m2) = (
+            polygon_moments_upto(&l, o, sc, 4),
+            polygon_moments_upto(&r1, o, sc, 4),
+            polygon_moments_upto(&r2, o, sc, 4),
+        );
+        for p in 0..=4 {
+            for q in 0..=4 - p {
+                let want = m1[p][q] + m2[p][q];
+                // sums of signed terms: relative to the moment of |…| scale
+                let scale = m1[p][q].abs() + m2[p][q].abs();
+                assert!((ml[p][q] - want).abs() <= 1e-14 * scale, "L {p}{q}");
+            }
+        }
+        // degree ≤ 2 agrees with polygon_moments (unscaled)
+        let p2 = polygon_moments(&l, o);
+        let m = polygon_moments_upto(&l, o, 1.0, 2);
+        for (x, y) in [
+            (m[0][0], p2.area),
+            (m[1][0], p2.sx),
+            (m[0][1], p2.sy),
+            (m[2][0], p2.sxx),
+            (m[1][1], p2.sxy),
+            (m[0][2], p2.syy),
+        ] {
+            assert!((x - y).abs() <= 1e-14 * y.abs().max(1.0), "{x} vs {y}");
+        }
+    }
+
     #[test]
     fn segment_integrals() {
         let (a, b) = ([1.0, 1.0], [4.0, 5.0]); // L = 5

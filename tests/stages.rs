@@ -24,6 +24,19 @@ fn staged_model() -> String {
     )
 }
 
+/// The Newmark (1965) rigid block's slip under the record of the staged model `text`,
+/// starting at the shake stage's start.
+fn newmark_slip(text: &str) -> f64 {
+    let record = parse_model(text, Path::new("."))
+        .unwrap()
+        .base_motion
+        .unwrap();
+    let accel = |t: f64| (-record.accel(t)[0], 0.0);
+    let reference =
+        nmm::verify::newmark_sliding::slide(THETA, 40.5, 9.81, 1e-3, &accel, STEADY_2HZ.duration);
+    reference.last().unwrap().1
+}
+
 /// (time, slip along the plane (+ downslope), settlement into the plane) at every step,
 /// and the stage of every step.
 fn run(text: &str) -> (Vec<(f64, f64, f64)>, Vec<String>) {
@@ -68,15 +81,8 @@ fn settle_then_shake_matches_newmark_without_a_drop() {
     let drop = d[..20].iter().map(|r| r.2).fold(0.0f64, f64::max);
     // the Newmark reference, its record starting at the shake stage's start
     let t0 = settled.0;
-    let record = parse_model(&staged_model(), Path::new("."))
-        .unwrap()
-        .base_motion
-        .unwrap();
-    let accel = |t: f64| (-record.accel(t)[0], 0.0);
-    let reference =
-        nmm::verify::newmark_sliding::slide(THETA, 40.5, 9.81, 1e-3, &accel, STEADY_2HZ.duration);
     let slip = h.last().unwrap().1 - settled.1;
-    let slip_ref = reference.last().unwrap().1;
+    let slip_ref = newmark_slip(&staged_model());
     eprintln!(
         "settled at t = {t0}: settlement {:.3e} m; extra settlement in the first 0.2 s of shaking {extra:.3e} m \
          ; in its first 20 steps {early:.3e} m (the unsettled run drops {drop:.3e} m); slip {slip:.5} m vs Newmark {slip_ref:.5} m ({:+.2}%)",
@@ -286,15 +292,8 @@ fn settle_then_shake_at_order_1() {
         .iter()
         .map(|r| r.2 - settled.2)
         .fold(0.0f64, f64::max);
-    let record = parse_model(&text, Path::new("."))
-        .unwrap()
-        .base_motion
-        .unwrap();
-    let accel = |t: f64| (-record.accel(t)[0], 0.0);
-    let reference =
-        nmm::verify::newmark_sliding::slide(THETA, 40.5, 9.81, 1e-3, &accel, STEADY_2HZ.duration);
     let slip = h.last().unwrap().1 - settled.1;
-    let err = slip / reference.last().unwrap().1 - 1.0;
+    let err = slip / newmark_slip(&text) - 1.0;
     eprintln!(
         "order 1: extra settlement {extra:.3e} m, slip {slip:.5} m ({:+.2}% of Newmark)",
         100.0 * err

@@ -11,17 +11,6 @@ from incline import closed_form, incline_toml, slip
 THETA, PHI = 30.0, 20.0
 
 
-@pytest.fixture(scope="module")
-def client():
-    distributed = pytest.importorskip("distributed")
-    cluster = distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0"
-    )
-    c = distributed.Client(cluster)
-    yield c
-    c.close()
-    cluster.close()
-
 
 def base():
     m = nmm.Model.from_toml(incline_toml(theta=THETA, phi=PHI, steps=300))

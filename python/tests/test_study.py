@@ -16,17 +16,6 @@ THETA = 30.0
 PHIS = [10.0, 14.0, 18.0, 22.0, 26.0, 32.0, 36.0, 40.0]
 
 
-@pytest.fixture(scope="module")
-def client():
-    distributed = pytest.importorskip("distributed")
-    cluster = distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0"
-    )
-    c = distributed.Client(cluster)
-    yield c
-    c.close()
-    cluster.close()
-
 
 def variants():
     v = {f"phi{int(p):02d}": {"interface.0.friction_angle": p} for p in PHIS}

@@ -117,6 +117,13 @@ impl FrictionParams {
         gn < 0.0 && (self.dashpot == 0.0 || self.closed_normal(gn) < 0.0)
     }
 
+    /// The energy ½ t_N²/p_N + ½ t_S²/p_S of the contact's springs holding the normal
+    /// spring force `tn_spring` and the shear force `ts`.
+    #[inline]
+    pub fn spring_energy(&self, tn_spring: f64, ts: f64) -> f64 {
+        0.5 * tn_spring * tn_spring / self.pn + 0.5 * ts * ts / self.ps
+    }
+
     /// The spring's share p_N g_N of a closed contact's normal force `tn` (without the
     /// dashpot's).
     #[inline]

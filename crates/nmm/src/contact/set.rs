@@ -370,9 +370,9 @@ fn step_dissipation(c: &Contact, gn: f64, gs: f64) -> StepDissipation {
     }
     let tn0 = p.pn * c.gn0.min(0.0);
     let ts0 = p.ps * c.history.ge;
-    let start = 0.5 * tn0 * tn0 / p.pn + 0.5 * ts0 * ts0 / p.ps;
+    let start = p.spring_energy(tn0, ts0);
     let tn_spring = p.spring_normal(r.tn);
-    let end = 0.5 * tn_spring * tn_spring / p.pn + 0.5 * r.ts * r.ts / p.ps;
+    let end = p.spring_energy(tn_spring, r.ts);
     let work = r.tn * (gn - c.gn0) + r.ts * gs;
     let friction = r.ts * r.slip;
     // the restitution dashpot's force (c_N/Δt) Δg_N over Δg_N
@@ -1004,8 +1004,7 @@ impl ContactSet {
                 if r.status == ContactStatus::Open {
                     0.0
                 } else {
-                    let tn = c.params.spring_normal(r.tn);
-                    0.5 * tn * tn / c.params.pn + 0.5 * r.ts * r.ts / c.params.ps
+                    c.params.spring_energy(c.params.spring_normal(r.tn), r.ts)
                 }
             })
             .sum()

@@ -130,6 +130,37 @@ impl<'a> Region<'a> {
     }
 }
 
+/// The index after `i` in a list of `n` points holding loops that start at `starts`
+/// (sorted, the first 0; empty or `[0]`: one loop): the next point of `i`'s loop.
+#[inline]
+pub fn loop_next(starts: &[usize], n: usize, i: usize) -> usize {
+    if starts.len() <= 1 {
+        return (i + 1) % n;
+    }
+    let k = starts.partition_point(|&s| s <= i) - 1;
+    let end = starts.get(k + 1).copied().unwrap_or(n);
+    if i + 1 == end {
+        starts[k]
+    } else {
+        i + 1
+    }
+}
+
+/// The index before `i` (see [`loop_next`]).
+#[inline]
+pub fn loop_prev(starts: &[usize], n: usize, i: usize) -> usize {
+    if starts.len() <= 1 {
+        return (i + n - 1) % n;
+    }
+    let k = starts.partition_point(|&s| s <= i) - 1;
+    let end = starts.get(k + 1).copied().unwrap_or(n);
+    if i == starts[k] {
+        end - 1
+    } else {
+        i - 1
+    }
+}
+
 /// Whether two regions overlap with positive area (beyond `tol`): touching along an edge
 /// or at a point, or one lying in a hole of the other, is not overlap. The method of
 /// [`super::polygon::polygons_overlap`] on every loop: each edge is split where the other
@@ -252,6 +283,18 @@ mod tests {
             "{c:?}"
         );
         assert!((c[1] - 2.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn next_and_previous_on_loops() {
+        // loops [0, 1, 2, 3], [4, 5, 6]
+        let s = [0, 4];
+        let next: Vec<usize> = (0..7).map(|i| loop_next(&s, 7, i)).collect();
+        assert_eq!(next, [1, 2, 3, 0, 5, 6, 4]);
+        let prev: Vec<usize> = (0..7).map(|i| loop_prev(&s, 7, i)).collect();
+        assert_eq!(prev, [3, 0, 1, 2, 6, 4, 5]);
+        assert_eq!(loop_next(&[0], 3, 2), 0);
+        assert_eq!(loop_prev(&[], 3, 0), 2);
     }
 
     #[test]

@@ -28,7 +28,7 @@ use std::time::Duration;
 
 const MAGIC: &[u8; 8] = b"NMMCKPT\n";
 /// Bumped whenever the layout below changes.
-pub const FORMAT: u32 = 2;
+pub const FORMAT: u32 = 3;
 
 /// The program version a checkpoint must come from.
 pub fn program_version() -> String {
@@ -49,7 +49,23 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
 }
 
 fn hash_debug<T: std::fmt::Debug + ?Sized>(x: &T) -> u64 {
-    fnv1a(format!("{x:?}").as_bytes())
+    fnv1a(without_defaults(format!("{x:?}")).as_bytes())
+}
+
+/// The `Debug` text of a model part without the keys added later at their defaults
+/// (`holes: []` of a block, `excavate: []` of a stage, `initial_stress: None`), so that
+/// the fingerprints of models that do not use them are what they were.
+fn without_defaults(text: String) -> String {
+    if text.contains(", holes: []")
+        || text.contains(", excavate: []")
+        || text.contains(", initial_stress: None")
+    {
+        text.replace(", holes: []", "")
+            .replace(", excavate: []", "")
+            .replace(", initial_stress: None", "")
+    } else {
+        text
+    }
 }
 
 /// The stages of a model as run: its `[[stage]]` tables, or `[analysis]` as one stage.
@@ -59,6 +75,7 @@ fn stages_of(model: &Model) -> Vec<Stage> {
             name: String::new(),
             analysis: model.analysis.clone(),
             base_motion: true,
+            excavate: Vec::new(),
         }]
     } else {
         model.stages.clone()
@@ -74,7 +91,7 @@ pub fn model_fingerprint(model: &Model) -> u64 {
     if let Some(s) = m.stages.first() {
         m.analysis = s.analysis.clone();
     }
-    let text = format!("{m:?}");
+    let text = without_defaults(format!("{m:?}"));
     if m.cover_order == 0 {
         fnv1a(text.replacen(", cover_order: 0", "", 1).as_bytes())
     } else {
@@ -90,8 +107,14 @@ pub fn part_fingerprints(model: &Model, stage: usize) -> Vec<(String, Option<u64
         .iter()
         .map(|b| (&b.name, b.material, &b.vertices, b.fixed, &b.edge_joint))
         .collect();
+    let holes: Vec<_> = model.blocks.iter().map(|b| &b.holes).collect();
+    let blocks_hash = if holes.iter().all(|h| h.is_empty()) {
+        hash_debug(&blocks)
+    } else {
+        hash_debug(&(&blocks, &holes))
+    };
     let mut parts = vec![
-        ("blocks".to_string(), Some(hash_debug(&blocks))),
+        ("blocks".to_string(), Some(blocks_hash)),
         (
             "joints".to_string(),
             Some(hash_debug(&(&model.joints, &model.cracks))),
@@ -374,6 +397,16 @@ impl Simulation {
         for k in &c.seen {
             [k.0, k.1, k.2].iter().for_each(|x| w.us(*x));
         }
+        // in-situ stress and excavation (format 3): the energy the excavated blocks took,
+        // the contacts' in-situ offsets (the excavated blocks follow from the stage)
+        w.f(e.excavated);
+        let offsets = self.contacts.insitu_offsets();
+        w.us(offsets.len());
+        for (k, dn, gs) in &offsets {
+            [k.0, k.1, k.2].iter().for_each(|x| w.us(*x));
+            w.f(*dn);
+            w.f(*gs);
+        }
     }
 
     /// Restore a state written by [`Simulation::encode_state`] into a simulation freshly
@@ -391,6 +424,8 @@ impl Simulation {
             self.model.analysis = s.analysis.clone();
         }
         self.scale_constraint_penalties();
+        // the blocks excavated up to this stage are gone (their unknowns too)
+        self.excavate_through(stage);
         self.time_origin = r.f()?;
         self.full_steps = r.u64()?;
         self.partial = r.f()?;
@@ -463,6 +498,7 @@ impl Simulation {
             constraint_work: r.f()?,
             static_reset: r.f()?,
             contact_update: r.f()?,
+            excavated: 0.0,
         };
         let commits = r.us()?;
         let nc = r.len(80)?;
@@ -502,6 +538,15 @@ impl Simulation {
             committed,
             seen,
         });
+        self.energy.excavated = r.f()?;
+        let no = r.len(40)?;
+        let offsets = (0..no)
+            .map(|_| Ok(((r.us()?, r.us()?, r.us()?), r.f()?, r.f()?)))
+            .collect::<Res<Vec<_>>>()?;
+        if offsets.iter().any(|o| o.0 .0 >= blocks || o.0 .2 >= blocks) {
+            return Err("a contact names a block that is not in the model".into());
+        }
+        self.contacts.restore_insitu_offsets(&offsets);
         // the next step detects its contacts and assembles afresh, as after any step
         self.contacts_current = false;
         self.linear.step = None;

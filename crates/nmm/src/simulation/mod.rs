@@ -19,6 +19,7 @@
 //! Outputs are written by [`run`] through `outputs.rs`.
 
 pub mod checkpoint;
+mod insitu;
 pub mod memory;
 mod outputs;
 mod setup;
@@ -34,7 +35,7 @@ mod step;
 use crate::assembly::global::{gather_into, NO_DOF};
 use crate::contact::set::ContactSet;
 use crate::cover::basis::{CoverBasis, ElementDofTable, MAX_ELEMENT_DOFS};
-use crate::cover::{discretise_with, Discretisation, MaterialPoint};
+use crate::cover::{Discretisation, MaterialPoint};
 use crate::material::{elasticity_matrix, stress as hooke, Mat3};
 use crate::model::{Mode, Model, TimeFunction};
 use crate::solver::{
@@ -255,6 +256,8 @@ pub struct Energy {
     /// what the contact springs lost when the contacts were detected anew at each step's
     /// start (their energy at the end of a step − at the start of the next)
     pub contact_update: f64,
+    /// the elastic and kinetic energy the excavated blocks had when they were removed
+    pub excavated: f64,
     /// the largest energy flow seen: |external work|, |gravity potential|, dissipated (a
     /// scale for the balance error)
     pub flow: f64,
@@ -279,9 +282,16 @@ impl Energy {
     pub fn max_rise(&self) -> f64 {
         self.max - self.initial
     }
-    /// Dissipated so far: friction + damping + algorithmic + static reset + contact update.
+    /// Dissipated so far: friction + damping + algorithmic + static reset + contact update
+    /// (+ what excavated blocks took with them).
     pub fn dissipated(&self) -> f64 {
-        self.friction + self.damping + self.algorithmic + self.static_reset + self.contact_update
+        let d =
+            self.friction + self.damping + self.algorithmic + self.static_reset + self.contact_update;
+        if self.excavated != 0.0 {
+            d + self.excavated
+        } else {
+            d
+        }
     }
     /// total + dissipated − initial − external work: zero when the balance closes.
     pub fn balance_error(&self) -> f64 {
@@ -394,6 +404,8 @@ pub struct Simulation {
     /// (`penalties` are these scaled to the current stage's factor: they are linear in it).
     penalty_base: Vec<Penalty>,
     penalty_factor: f64,
+    /// In-situ stress and excavated blocks ([`insitu`]).
+    pub(crate) insitu: insitu::State,
 }
 
 impl Simulation {
@@ -405,9 +417,13 @@ impl Simulation {
         let blocks: Vec<_> = model
             .blocks
             .iter()
-            .map(|b| (b.vertices.clone(), b.fixed))
+            .map(|b| crate::cover::Shape {
+                outer: &b.vertices,
+                holes: &b.holes,
+                fixed: b.fixed,
+            })
             .collect();
-        let disc = discretise_with(
+        let disc = crate::cover::discretise_shapes(
             &blocks,
             model.cover_size,
             model.cover_origin,
@@ -481,6 +497,7 @@ impl Simulation {
             stage: 0,
             penalty_base: Vec::new(),
             penalty_factor: 0.0,
+            insitu: Default::default(),
             base_origin: match model.stages.first() {
                 Some(s) => s.base_motion.then_some(0.0),
                 None => Some(0.0),
@@ -517,6 +534,8 @@ impl Simulation {
         }
         sim.contacts.set_block_masses(masses);
         sim.build_element_pattern();
+        sim.init_insitu();
+        sim.excavate_through(0);
         Ok(sim)
     }
 
@@ -684,6 +703,7 @@ impl Simulation {
         self.full_steps = 0;
         self.partial = 0.0;
         self.scale_constraint_penalties();
+        self.excavate_through(self.stage);
         if was_static {
             self.v.iter_mut().for_each(|x| *x = 0.0);
             self.last_du.iter_mut().for_each(|x| *x = 0.0);
@@ -1725,10 +1745,10 @@ impl Simulation {
         e.contact = self.contacts.spring_energy();
         e.penalty = penalty;
         if first {
-            // the state before the first step: unstressed, no springs stretched, moving only
-            // if a velocity was set (½ v₀ᵀMv₀)
-            e.initial = initial_kinetic;
-            e.max = initial_kinetic;
+            // the state before the first step: unstressed (or at the in-situ stress), no
+            // springs stretched, moving only if a velocity was set (½ v₀ᵀMv₀)
+            e.initial = initial_kinetic + self.insitu.initial_elastic;
+            e.max = e.initial;
         }
         let net = e.total() - e.external_work;
         e.max = e.max.max(net);

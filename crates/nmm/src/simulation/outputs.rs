@@ -414,6 +414,9 @@ pub fn blocks_grid(sim: &Simulation) -> Grid {
         [0.0; crate::cover::basis::MAX_ELEMENT_DOFS],
     );
     for (ei, e) in sim.disc.elements.iter().enumerate() {
+        if sim.is_excavated(e.block) {
+            continue; // gone from the stage that excavated it on
+        }
         let start = g.points.len();
         let dofs = sim.elem_dofs.of(ei);
         let (ue, ve) = (&mut ue[..dofs.len()], &mut ve[..dofs.len()]);
@@ -666,6 +669,7 @@ pub fn run_simulation(
         "algorithmic_dissipation": e.algorithmic,
         "static_reset": e.static_reset,
         "contact_update": e.contact_update,
+        "excavated": e.excavated,
         "dissipated": e.dissipated(),
         "balance_error": e.balance_error(),
         "balance_error_relative": e.balance_error_relative(),

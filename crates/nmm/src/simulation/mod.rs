@@ -31,8 +31,9 @@ pub use energy::Energy;
 pub use static_step::{STATIC_MAX_MOTION, STATIC_OUTER_ITERATIONS};
 
 pub use run::{
-    checkpoint_name, latest_checkpoint, peak_memory_bytes, run, run_observed, run_simulation,
-    RunError, RunObserver, RunOptions, RunStatus, RunSummary, Silent, Start,
+    branch_start, checkpoint_name, latest_checkpoint, peak_memory_bytes, resume_start, run,
+    run_observed, run_simulation, with_friction, RunError, RunObserver, RunOptions, RunStatus,
+    RunSummary, Silent, Start,
 };
 pub use writers::{blocks_grid, contacts_grid, history_columns, monitor_values, write_block_table};
 

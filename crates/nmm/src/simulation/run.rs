@@ -329,6 +329,71 @@ pub(super) fn io(path: &Path, e: std::io::Error) -> RunError {
     RunError::Io(format!("{}: {e}", path.display()))
 }
 
+/// The model with a `--friction` override applied to `[analysis]` and every stage.
+pub fn with_friction(mut model: Model, friction: Option<crate::model::FrictionAlgorithm>) -> Model {
+    if let Some(f) = friction {
+        model.analysis.friction = f;
+        for s in model.stages.iter_mut() {
+            s.analysis.friction = f;
+        }
+    }
+    model
+}
+
+/// What resuming the run in `dir` needs (`nmm resume DIR`, `nmm.resume` in Python): the
+/// model read again from the file the run was made from (with the run's `--friction`
+/// override) and the options of the run, starting from its latest checkpoint. A run
+/// without a checkpoint, a checkpoint that cannot be read, or a model file changed since:
+/// one line naming the file.
+pub fn resume_start(dir: &Path) -> Result<(Model, PathBuf, RunOptions), String> {
+    let Some(c) = latest_checkpoint(dir) else {
+        return Err(format!(
+            "{}: no checkpoint to resume from (checkpoints/ is written at the end of each stage, on Ctrl-C and with --checkpoint-every)",
+            dir.display()
+        ));
+    };
+    let ckpt = Checkpoint::read(&c)?;
+    let path = PathBuf::from(&ckpt.model_path);
+    let model = crate::model::load_model(&path)
+        .map_err(|e| format!("{}: the run's model: {e}", c.display()))?;
+    let model = with_friction(model, ckpt.options.friction);
+    if !ckpt.is_of_model(&model) {
+        return Err(format!(
+            "{}: a checkpoint of another model: {} is not the model it was written from (start a changed model from it with `nmm run MODEL --from {}`)",
+            c.display(),
+            path.display(),
+            c.display()
+        ));
+    }
+    let opts = RunOptions {
+        interrupt: None,
+        vtk: ckpt.options.vtk,
+        model_path: Some(path.clone()),
+        checkpoint_every: ckpt.options.checkpoint_every,
+        friction: ckpt.options.friction,
+        start: Start::Resume(Box::new(ckpt)),
+        threads: None,
+    };
+    Ok((model, path, opts))
+}
+
+/// A branch start from the checkpoint file `checkpoint` of another run (`nmm run MODEL
+/// --from CKPT`, `nmm.run(..., start_from=CKPT)`): refused, in one line naming `source`
+/// (the model's file) and the checkpoint, when the model differs from the saved run in what
+/// defines its state.
+pub fn branch_start(model: &Model, source: &str, checkpoint: &Path) -> Result<Start, String> {
+    let ckpt = Checkpoint::read(checkpoint)?;
+    let diff = ckpt.differences(model);
+    if !diff.is_empty() {
+        return Err(format!(
+            "{source}: cannot start from {}: the model differs in {} (a branch keeps the saved run's blocks, joints, cover, materials and stages up to the checkpoint)",
+            checkpoint.display(),
+            diff.join(", ")
+        ));
+    }
+    Ok(Start::Branch(Box::new(ckpt)))
+}
+
 /// Run a validated model, writing its outputs into `out`.
 pub fn run(model: Model, out: &Path, opts: &RunOptions) -> Result<RunSummary, RunError> {
     run_observed(model, out, opts, &mut Silent)

@@ -204,9 +204,10 @@ pub struct StepReport {
 ///
 /// Stored: kinetic ½ vᵀMv + elastic ½ Σ A σᵀD⁻¹σ + gravity potential (−work of gravity
 /// since the start) + contact springs ½ Σ (t_N²/p_N + t_S²/p_S) + penalty springs (ghost
-/// ties and constraints about their targets) = `total`. `external_work` is the work of the
-/// loads and of the base motion's inertial forces; `constraint_work` that of the prescribed
-/// (moving) constraints.
+/// ties and constraints about their targets) + rock bolts ½ Σ N²/k = `total`.
+/// `external_work` is the work of the loads and of the base motion's inertial forces (and
+/// a bolt's pretension ½ N₀²/k at its installation); `constraint_work` that of the
+/// prescribed (moving) constraints.
 ///
 /// Dissipated, summed over the steps, each from its own formula:
 /// * `friction`: Σ t_S Δγ over the contacts (force on the Coulomb limit × plastic slip);
@@ -221,7 +222,9 @@ pub struct StepReport {
 ///   discards; zero, to the tolerance, for a step that reached equilibrium;
 /// * `contact_update`: what the contact springs lose when the contacts are detected anew on
 ///   the moved geometry at each step's start (new gaps and tributary lengths): their energy
-///   at the end of a step minus their energy at the start of the next.
+///   at the end of a step minus their energy at the start of the next (and the bolts'
+///   the same, on their kinematics taken anew: [`crate::bolt`]);
+/// * `bolt_plastic`: Σ N Δp over the bolts (force at the capacity × plastic elongation).
 ///
 /// Balance: total + dissipated = initial + external work + constraint work, up to the Newton
 /// tolerance and the stresses carried onto the moved elements: `balance_error`. Without external work the total can only fall:
@@ -233,6 +236,8 @@ pub struct Energy {
     pub gravity: f64,
     pub contact: f64,
     pub penalty: f64,
+    /// rock bolts: ½ Σ N²/k
+    pub bolts: f64,
     pub external_work: f64,
     /// total at the start of the run
     pub initial: f64,
@@ -258,13 +263,16 @@ pub struct Energy {
     /// the largest energy flow seen: |external work|, |gravity potential|, dissipated (a
     /// scale for the balance error)
     pub flow: f64,
+    /// dissipated by the bolts' plastic elongation so far: Σ N Δp
+    pub bolt_plastic: f64,
 }
 
 impl Energy {
     pub fn total(&self) -> f64 {
-        self.kinetic + self.elastic + self.gravity + self.contact + self.penalty
+        self.kinetic + self.elastic + self.gravity + self.contact + self.penalty + self.bolts
     }
-    /// The components and the external work, in the order of the fields.
+    /// The components (without the bolts') and the external work, in the order of the
+    /// fields.
     pub fn components(&self) -> [f64; 6] {
         [
             self.kinetic,
@@ -279,9 +287,15 @@ impl Energy {
     pub fn max_rise(&self) -> f64 {
         self.max - self.initial
     }
-    /// Dissipated so far: friction + damping + algorithmic + static reset + contact update.
+    /// Dissipated so far: friction + damping + algorithmic + static reset + contact update
+    /// + the bolts' plastic work.
     pub fn dissipated(&self) -> f64 {
-        self.friction + self.damping + self.algorithmic + self.static_reset + self.contact_update
+        self.friction
+            + self.damping
+            + self.algorithmic
+            + self.static_reset
+            + self.contact_update
+            + self.bolt_plastic
     }
     /// total + dissipated − initial − external work: zero when the balance closes.
     pub fn balance_error(&self) -> f64 {
@@ -345,6 +359,8 @@ pub struct Simulation {
     /// element (the stress is linear in the weights); empty at order 0.
     pub stress_nodes: Vec<[f64; 3]>,
     pub contacts: ContactSet,
+    /// The rock bolts ([`crate::bolt`]).
+    pub bolts: crate::bolt::BoltSet,
     pub timings: Timings,
     /// The energy balance after the last step.
     pub energy: Energy,
@@ -435,6 +451,7 @@ impl Simulation {
         let empty = Arc::new(SparsePattern::from_groups(n, std::iter::empty()));
         let mut sim = Simulation {
             contacts: ContactSet::default(),
+            bolts: Default::default(),
             energy: Energy::default(),
             step: 0,
             time: 0.0,
@@ -496,6 +513,8 @@ impl Simulation {
         sim.penalty_base = sim.penalties.clone();
         sim.penalty_factor = sim.model.analysis.constraint_penalty;
         setup::monitors(&mut sim)?;
+        sim.bolts = crate::bolt::BoltSet::new(&sim.model, &sim.disc, &sim.elem_dofs)?;
+        sim.install_bolts();
         sim.ghosts = crate::cover::stabilise::ghost_ties(&sim.disc)
             .iter()
             .map(|t| {
@@ -533,10 +552,12 @@ impl Simulation {
         for g in &self.ghosts {
             groups.push(g.dofs.iter().copied().filter(|&x| x != NO_DOF).collect());
         }
+        groups.extend(self.bolts.groups());
         let pattern = Arc::new(SparsePattern::from_groups(
             self.n_dofs(),
             groups.iter().map(|g| g.as_slice()),
         ));
+        self.bolts.bind(&pattern);
         let slot = |r: usize, c: usize| -> u32 {
             if r == NO_DOF || c == NO_DOF {
                 u32::MAX
@@ -684,6 +705,7 @@ impl Simulation {
         self.full_steps = 0;
         self.partial = 0.0;
         self.scale_constraint_penalties();
+        self.install_bolts();
         if was_static {
             self.v.iter_mut().for_each(|x| *x = 0.0);
             self.last_du.iter_mut().for_each(|x| *x = 0.0);
@@ -692,6 +714,14 @@ impl Simulation {
         // the friction law and the inertia coefficient may change with the stage
         self.contacts_current = false;
         self.linear.step = None;
+    }
+
+    /// Install the bolts of the stages begun so far (those without a stage at the start)
+    /// on the current geometry ([`crate::bolt`]).
+    fn install_bolts(&mut self) {
+        let stage = self.stage;
+        self.bolts
+            .install(&self.disc, &self.u, |s| s.is_none_or(|s| s <= stage));
     }
 
     /// The constraint springs for the current stage's `constraint_penalty`: those set up
@@ -881,6 +911,8 @@ impl Simulation {
             }
         }
         lp.step = Some(self.step);
+        // the bolts' kinematics on the geometry at t_n
+        self.bolts.begin_step(&self.disc, &self.u);
         self.timings.stages.assembly += ta.elapsed();
     }
 
@@ -1314,6 +1346,7 @@ impl Simulation {
             targets: &targets,
             u_n: &self.u,
             contacts: &mut self.contacts,
+            bolts: &mut self.bolts,
             tangent: &mut lp.tangent,
             threads: &self.threads,
             sigma: 0.0,
@@ -1509,6 +1542,7 @@ impl Simulation {
             self.v.iter_mut().for_each(|x| *x = 0.0);
         }
         self.contacts.commit(du);
+        self.bolts.commit(du);
         let mut max_du = 0.0f64;
         let basis = self.disc.basis;
         let nd = self.elem_dofs.stride();
@@ -1724,6 +1758,18 @@ impl Simulation {
         e.elastic = elastic;
         e.contact = self.contacts.spring_energy();
         e.penalty = penalty;
+        if !self.bolts.is_empty() {
+            // the bolts: stored ½N²/k, plastic work, the scheme's share, the pretension of
+            // those installed at the step's start (work done on the system) and the
+            // change of their energy between the last step's end and this one's start
+            let b = self.bolts.step_energy();
+            e.external_work += b.installed;
+            e.bolt_plastic += b.plastic;
+            e.algorithmic += b.algorithmic;
+            e.contact_update += e.bolts - b.start;
+            e.bolts = self.bolts.energy();
+            e.flow = e.flow.max(e.external_work.abs()).max(e.dissipated().abs());
+        }
         if first {
             // the state before the first step: unstressed, no springs stretched, moving only
             // if a velocity was set (½ v₀ᵀMv₀)
@@ -1735,6 +1781,7 @@ impl Simulation {
         for c in e.components() {
             e.scale = e.scale.max(c.abs());
         }
+        e.scale = e.scale.max(e.bolts.abs());
     }
 
     /// The clock after a committed step of `dt`: a step that covered the rest of its

@@ -337,6 +337,7 @@ pub fn history_columns(model: &Model) -> Vec<String> {
             MonitorKind::Point { .. } => &["ux", "uy", "vx", "vy"],
             MonitorKind::Interface { .. } => &["fx", "fy", "fn", "nc"],
             MonitorKind::Block { .. } => &["x", "y", "rotation"],
+            MonitorKind::Bolt { .. } => &["force", "elongation"],
         };
         cols.extend(names.iter().map(|c| format!("{}.{}", m.name, c)));
     }
@@ -359,6 +360,10 @@ pub fn monitor_values(sim: &Simulation) -> Vec<f64> {
             }
             (MonitorKind::Block { blocks }, _) => {
                 vals.extend_from_slice(&block_motion(sim, blocks))
+            }
+            (MonitorKind::Bolt { bolt }, _) => {
+                let b = &sim.bolts.bolts[*bolt];
+                vals.extend_from_slice(&[b.force, b.elongation]);
             }
             _ => vals.extend_from_slice(&[f64::NAN; 4]),
         }

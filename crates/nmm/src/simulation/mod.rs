@@ -18,11 +18,13 @@
 //!
 //! Outputs are written by [`run`] through `outputs.rs`.
 
+mod bolt_frames;
 pub mod checkpoint;
 pub mod memory;
 mod outputs;
 mod setup;
 
+pub use bolt_frames::bolts_grid;
 pub use outputs::{
     blocks_grid, checkpoint_name, contacts_grid, history_columns, latest_checkpoint,
     monitor_values, peak_memory_bytes, run, run_observed, run_simulation, write_block_table,

@@ -522,23 +522,35 @@ struct Frames {
     dir: PathBuf,
     blocks: PvdWriter,
     contacts: PvdWriter,
+    /// A model with bolts: their frames, with the blocks'.
+    bolts: Option<PvdWriter>,
 }
 
 impl Frames {
-    fn new(out: &Path) -> Result<Frames, RunError> {
-        Frames::with(out, Default::default(), Default::default())
+    fn new(out: &Path, bolts: bool) -> Result<Frames, RunError> {
+        Frames::with(out, Default::default(), Default::default(), bolts)
     }
     /// The collections with the frames written so far (a resumed run).
     fn with(
         out: &Path,
         blocks: (Vec<(f64, String)>, Vec<String>),
         contacts: (Vec<(f64, String)>, Vec<String>),
+        bolts: bool,
     ) -> Result<Frames, RunError> {
         let dir = out.join("vtk");
         std::fs::create_dir_all(&dir).map_err(|e| io(&dir, e))?;
         let b = out.join("blocks.pvd");
         let c = out.join("contacts.pvd");
+        let bolts = match bolts {
+            false => None,
+            true => {
+                let p = out.join("bolts.pvd");
+                let frames = super::bolt_frames::frames_of_blocks(&blocks.0);
+                Some(PvdWriter::with_frames(&p, frames, blocks.1.clone()).map_err(|e| io(&p, e))?)
+            }
+        };
         Ok(Frames {
+            bolts,
             blocks: PvdWriter::with_frames(&b, blocks.0, blocks.1).map_err(|e| io(&b, e))?,
             contacts: PvdWriter::with_frames(&c, contacts.0, contacts.1).map_err(|e| io(&c, e))?,
             dir,
@@ -562,6 +574,17 @@ impl Frames {
             } else {
                 &mut self.contacts
             };
+            pvd.add_named(
+                sim.time,
+                &format!("vtk/{name}"),
+                sim.stage_name().unwrap_or(""),
+            )
+            .map_err(|e| io(&path, e))?;
+        }
+        if let Some(pvd) = self.bolts.as_mut() {
+            let name = format!("bolts_{:06}.vtu", sim.step);
+            let path = self.dir.join(&name);
+            write_vtu(&path, &super::bolts_grid(sim)).map_err(|e| io(&path, e))?;
             pvd.add_named(
                 sim.time,
                 &format!("vtk/{name}"),
@@ -740,10 +763,11 @@ fn step_to_end(
                     c.outputs.contacts_frames.clone(),
                     c.outputs.contacts_names.clone(),
                 ),
+                !sim.bolts.is_empty(),
             )?)
         }
         (true, None) => {
-            let mut f = Frames::new(out)?;
+            let mut f = Frames::new(out, !sim.bolts.is_empty())?;
             f.write(sim)?;
             Some(f)
         }

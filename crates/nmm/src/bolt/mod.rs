@@ -437,3 +437,178 @@ impl BoltSet {
         Ok(())
     }
 }
+
+#[cfg(test)]
+#[allow(clippy::needless_range_loop)]
+mod tests {
+    use super::*;
+    use crate::model::parse_model;
+    use crate::simulation::Simulation;
+    use std::path::Path;
+
+    /// A free unit square (cover `h`, `[cover] order`) with a bolt inside it from (0.2, 0.3)
+    /// to (0.8, 0.6) (L = √0.45), k = 1e6 N/m, capacity `fy`.
+    fn square(order: usize, fy: f64) -> Simulation {
+        let text = format!(
+            "[analysis]\nmode = \"static\"\ndt = 0.01\nsteps = 1\n\
+             [cover]\nsize = 0.3\norder = {order}\n\
+             [[material]]\nname = \"m\"\ndensity = 2000.0\nyoung = 1e9\npoisson = 0.25\n\
+             [[block]]\nname = \"b\"\nmaterial = \"m\"\n\
+             vertices = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]\n\
+             [[bolt]]\nname = \"b1\"\npoints = [[0.2, 0.3], [0.8, 0.6]]\nstiffness = 1.0e6\ncapacity = {fy:e}\n"
+        );
+        Simulation::new(parse_model(&text, Path::new(".")).unwrap()).unwrap()
+    }
+
+    /// The displacement vector of the linear field u(x) = A (x − c) (the covers' constant
+    /// terms at the nodes, the higher terms zero: exact at both orders).
+    fn linear_field(sim: &Simulation, a: [[f64; 2]; 2], c: Vec2) -> Vec<f64> {
+        let mut u = vec![0.0; sim.n_dofs()];
+        for e in &sim.disc.elements {
+            for k in 0..3 {
+                if let Some(d) = sim.disc.covers[e.covers[k]].dof {
+                    let x = [e.nodes[k][0] - c[0], e.nodes[k][1] - c[1]];
+                    u[d] = a[0][0] * x[0] + a[0][1] * x[1];
+                    u[d + 1] = a[1][0] * x[0] + a[1][1] * x[1];
+                }
+            }
+        }
+        u
+    }
+
+    fn rotation(t: f64) -> [[f64; 2]; 2] {
+        let (s, c) = t.sin_cos();
+        [[c - 1.0, -s], [s, c - 1.0]]
+    }
+
+    /// A rigid rotation of 90° in 1° steps: at every step's start the bolt's elongation
+    /// from the moved anchors is zero (to round-off), the committed one is the linearised
+    /// −L (1 − cos Δθ) (second order in the step's rotation, not carried over), and after
+    /// the quarter turn a dilation ε along the turned bolt stretches it by exactly ε L: its
+    /// direction followed the rotation.
+    #[test]
+    fn a_bolt_follows_a_rigid_rotation_of_any_size() {
+        for order in [0, 1] {
+            let mut sim = square(order, 1.0e9);
+            let c = [0.5, 0.5];
+            let len = 0.45f64.sqrt();
+            let step = 1f64.to_radians();
+            let mut bolts = sim.bolts.clone();
+            let mut u = vec![0.0; sim.n_dofs()];
+            for k in 0..90 {
+                bolts.begin_step(&sim.disc, &u);
+                let b = &bolts.bolts[0];
+                assert!(b.delta0.abs() < 1e-12 * len, "step {k}: δ_n {}", b.delta0);
+                let next = linear_field(&sim, rotation(step * (k + 1) as f64), c);
+                let du: Vec<f64> = next.iter().zip(&u).map(|(a, b)| a - b).collect();
+                bolts.commit(&du);
+                let want = -len * (1.0 - step.cos());
+                let b = &bolts.bolts[0];
+                assert!(
+                    (b.elongation - want).abs() < 1e-9 * len,
+                    "order {order} step {k}: {} vs {want}",
+                    b.elongation
+                );
+                u = next;
+            }
+            bolts.begin_step(&sim.disc, &u);
+            let d0 = [0.6 / len, 0.3 / len];
+            let dir = bolts.bolts[0].dir;
+            assert!(
+                (dir[0] + d0[1]).abs() < 1e-12 && (dir[1] - d0[0]).abs() < 1e-12,
+                "{dir:?}"
+            );
+            // a dilation ε about c of the turned square: Δu = ε (x − c) on the current
+            // positions x − c = R (x₀ − c), a linear field of the initial ones
+            let eps = 1.0e-4;
+            let r = rotation(90f64.to_radians());
+            let a = [
+                [eps * (r[0][0] + 1.0), eps * r[0][1]],
+                [eps * r[1][0], eps * (r[1][1] + 1.0)],
+            ];
+            let rotated = linear_field(&sim, a, c);
+            bolts.commit(&rotated);
+            let b = &bolts.bolts[0];
+            assert!(
+                (b.elongation - eps * len).abs() < 1e-12 * len,
+                "order {order}: {} vs {}",
+                b.elongation,
+                eps * len
+            );
+            assert!((b.force - 1.0e6 * eps * len).abs() < 1e-6, "{}", b.force);
+            sim.bolts = bolts;
+        }
+    }
+
+    /// The bolts' force N b and their tangent k_t b bᵀ: the tangent (applied, and
+    /// assembled) against central differences of the force on the chosen branch, elastic
+    /// and yielding, at both orders.
+    #[test]
+    fn the_tangent_is_the_derivative_of_the_bolt_forces() {
+        for order in [0, 1] {
+            for (fy, scale) in [(1.0e9, 1.0e-4), (10.0, 1.0e-3)] {
+                let sim = square(order, fy);
+                let mut bolts = sim.bolts.clone();
+                let n = sim.n_dofs();
+                let u = linear_field(&sim, rotation(0.3), [0.5, 0.5]);
+                bolts.begin_step(&sim.disc, &u);
+                // an increment with a stretch and some noise, and a direction
+                let mut du = linear_field(&sim, [[scale, 0.2 * scale], [0.0, scale]], [0.1, 0.0]);
+                let v: Vec<f64> = (0..n)
+                    .map(|i| ((i * 7919 % 101) as f64 / 101.0 - 0.5) * 1e-3)
+                    .collect();
+                for (i, d) in du.iter_mut().enumerate() {
+                    *d += 1e-6 * scale * ((i * 31 % 17) as f64 - 8.0);
+                }
+                bolts.choose_branches(&du);
+                let yielding = bolts.bolts[0].branch != BoltBranch::Elastic;
+                assert_eq!(yielding, fy < 1e3, "order {order}, F_y {fy}");
+                let h = 1e-7;
+                let (mut rp, mut rm) = (vec![0.0; n], vec![0.0; n]);
+                let plus: Vec<f64> = du.iter().zip(&v).map(|(a, b)| a + h * b).collect();
+                let minus: Vec<f64> = du.iter().zip(&v).map(|(a, b)| a - h * b).collect();
+                bolts.add_forces(&plus, &mut rp, false);
+                bolts.add_forces(&minus, &mut rm, false);
+                let mut kv = vec![0.0; n];
+                bolts.apply_tangent(&v, &mut kv);
+                // assembled on the bolts' own pattern (map = identity)
+                let groups: Vec<Vec<usize>> = bolts.groups().collect();
+                let p = crate::solver::SparsePattern::from_groups(
+                    n,
+                    groups.iter().map(|g| g.as_slice()),
+                );
+                bolts.bind(&p);
+                let mut values = vec![0.0; p.nnz()];
+                let map: Vec<u32> = (0..p.nnz() as u32).collect();
+                bolts.assemble(&mut values, &map);
+                let mut kv2 = vec![0.0; n];
+                for col in 0..n {
+                    for k in p.col_ptr[col]..p.col_ptr[col + 1] {
+                        kv2[p.row_idx[k]] += values[k] * v[col];
+                    }
+                }
+                let kmax = kv.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                for i in 0..n {
+                    // R = −f: −(R(+) − R(−))/2h = K v
+                    let fd = -(rp[i] - rm[i]) / (2.0 * h);
+                    assert!(
+                        (fd - kv[i]).abs() <= 1e-6 * (kmax + 1.0),
+                        "order {order}, F_y {fy}, dof {i}: {fd} vs {}",
+                        kv[i]
+                    );
+                    assert!((kv2[i] - kv[i]).abs() <= 1e-9 * (kmax + 1.0));
+                }
+                if yielding {
+                    assert_eq!(kmax, 0.0);
+                    // the force on the yield branch is the capacity along the bolt
+                    let mut r = vec![0.0; n];
+                    bolts.add_forces(&du, &mut r, true);
+                    let sum: f64 = r.iter().map(|x| x.abs()).sum();
+                    assert!(sum > 0.0);
+                } else {
+                    assert!(kmax > 0.0);
+                }
+            }
+        }
+    }
+}

@@ -132,11 +132,21 @@ fn a_bolt_holds_the_block_with_the_force_friction_leaves() {
 /// yielded), tolerance 1% (the issue's).
 #[test]
 fn a_yielding_bolt_lets_the_block_slide_with_the_reduced_acceleration() {
+    yielding_bolt(0);
+}
+
+/// The same at `[cover] order = 1`.
+#[test]
+fn a_yielding_bolt_lets_the_block_slide_with_the_reduced_acceleration_at_order_1() {
+    yielding_bolt(1);
+}
+
+fn yielding_bolt(order: usize) {
     let (k, fy) = (1.0e5, 200.0);
     let text = bolted_block(
         "[analysis]\nmode = \"dynamic\"\ndt = 0.001\nsteps = 1000\ngravity = [0.0, -9.81]",
         &format!("stiffness = {k:e}\ncapacity = {fy:e}"),
-        "",
+        &format!("order = {order}"),
     );
     let mut sim = simulate(&text);
     let mut v1 = None;
@@ -150,7 +160,7 @@ fn a_yielding_bolt_lets_the_block_slide_with_the_reduced_acceleration() {
     let a = (v.speed() - v1.unwrap()) / 0.6;
     let exact = net_force() / MASS - fy / MASS;
     eprintln!(
-        "yielding bolt: a = {a:.6} m/s² vs g (sin θ − cos θ tan φ) − F_y/m = {exact:.6} ({:+.4}%); \
+        "yielding bolt, order {order}: a = {a:.6} m/s² vs g (sin θ − cos θ tan φ) − F_y/m = {exact:.6} ({:+.4}%); \
          force {} N, elongation {:.6} m, slip {:.6} m",
         (a / exact - 1.0) * 100.0,
         v.force(),

@@ -164,8 +164,8 @@ impl BoltSet {
                 weights: [0.0; 3],
             }; 2];
             let mut dofs = Vec::with_capacity(2 * elem_dofs.stride());
-            for i in 0..2 {
-                anchors[i] = disc.locate(b.blocks[i], b.points[i]).ok_or_else(|| {
+            for (i, anchor) in anchors.iter_mut().enumerate() {
+                *anchor = disc.locate(b.blocks[i], b.points[i]).ok_or_else(|| {
                     format!(
                         "[[bolt]] \"{}\": anchor {} {:?} is not inside block \"{}\" as discretised",
                         b.name,
@@ -174,7 +174,7 @@ impl BoltSet {
                         model.blocks[b.blocks[i]].name
                     )
                 })?;
-                dofs.extend_from_slice(elem_dofs.of(anchors[i].element));
+                dofs.extend_from_slice(elem_dofs.of(anchor.element));
             }
             let n = dofs.len();
             bolts.push(Bolt {

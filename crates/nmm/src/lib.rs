@@ -9,6 +9,7 @@
 //! See `ARCHITECTURE.md` for the map of the tree.
 
 pub mod assembly;
+pub mod bolt;
 pub mod check;
 pub mod contact;
 pub mod cover;

@@ -12,6 +12,7 @@ pub mod assembly;
 pub mod check;
 pub mod contact;
 pub mod cover;
+pub mod fracture;
 pub mod generate;
 pub mod geometry;
 pub mod material;

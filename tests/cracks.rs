@@ -20,6 +20,8 @@
 //! * stress intensity factors of Williams' field interpolated on split covers: 1% (measured
 //!   ≤ 0.27%); single-edge-cracked plate in tension against Tada–Paris–Irwin: see its doc.
 
+#![allow(clippy::needless_range_loop)] // small dense loops indexed as in the formulas
+
 use nmm::cover::basis::CoverBasis;
 use nmm::cover::{dependence, discretise_on_mesh_cracked, CoverCrack, Discretisation, MathMesh};
 use nmm::geometry::moments::polygon_area;

@@ -394,7 +394,7 @@ mod tests {
                 &dom,
                 &M,
             );
-            let scale = (k1 as f64).hypot(k2);
+            let scale = f64::hypot(k1, k2);
             println!("K = {k:?} for ({k1}, {k2}) at {angle} rad");
             assert!(
                 (k[0] - k1).abs() < 2e-3 * scale && (k[1] - k2).abs() < 2e-3 * scale,

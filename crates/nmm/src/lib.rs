@@ -13,6 +13,7 @@ pub mod bolt;
 pub mod check;
 pub mod contact;
 pub mod cover;
+pub mod fracture;
 pub mod generate;
 pub mod geometry;
 pub mod material;

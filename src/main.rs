@@ -319,14 +319,10 @@ fn load(
     path: &Path,
     friction: Option<nmm::model::FrictionAlgorithm>,
 ) -> anyhow::Result<nmm::model::Model> {
-    let mut model = nmm::model::load_model(path)?;
-    if let Some(f) = friction {
-        model.analysis.friction = f;
-        for s in model.stages.iter_mut() {
-            s.analysis.friction = f;
-        }
-    }
-    Ok(model)
+    Ok(nmm::simulation::with_friction(
+        nmm::model::load_model(path)?,
+        friction,
+    ))
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -344,20 +340,8 @@ fn run(
     let model = load(path, friction)?;
     let start = match from {
         None => nmm::simulation::Start::Fresh,
-        Some(c) => {
-            let ckpt =
-                nmm::simulation::checkpoint::Checkpoint::read(c).map_err(anyhow::Error::msg)?;
-            let diff = ckpt.differences(&model);
-            if !diff.is_empty() {
-                anyhow::bail!(
-                    "{}: cannot start from {}: the model differs in {} (a branch keeps the saved run's blocks, joints, cover, materials and stages up to the checkpoint)",
-                    path.display(),
-                    c.display(),
-                    diff.join(", ")
-                );
-            }
-            nmm::simulation::Start::Branch(Box::new(ckpt))
-        }
+        Some(c) => nmm::simulation::branch_start(&model, &path.display().to_string(), c)
+            .map_err(anyhow::Error::msg)?,
     };
     let opts = nmm::simulation::RunOptions {
         interrupt: None,
@@ -372,42 +356,18 @@ fn run(
 }
 
 fn resume(dir: &Path, quiet: bool, threads: Option<usize>) -> anyhow::Result<ExitCode> {
-    use nmm::simulation::checkpoint::Checkpoint;
-    let Some(c) = nmm::simulation::latest_checkpoint(dir) else {
-        anyhow::bail!(
-            "{}: no checkpoint to resume from (checkpoints/ is written at the end of each stage, on Ctrl-C and with --checkpoint-every)",
-            dir.display()
-        );
-    };
-    let ckpt = Checkpoint::read(&c).map_err(anyhow::Error::msg)?;
-    let path = PathBuf::from(&ckpt.model_path);
-    let model = load(&path, ckpt.options.friction)
-        .with_context(|| format!("{}: the run's model", c.display()))?;
-    if !ckpt.is_of_model(&model) {
-        anyhow::bail!(
-            "{}: a checkpoint of another model: {} is not the model it was written from (start a changed model from it with `nmm run MODEL --from {}`)",
-            c.display(),
-            path.display(),
-            c.display()
-        );
+    let (model, path, mut opts) = nmm::simulation::resume_start(dir).map_err(anyhow::Error::msg)?;
+    if let nmm::simulation::Start::Resume(ckpt) = &opts.start {
+        if !quiet {
+            eprintln!(
+                "resuming {} from step {} (t = {} s)",
+                dir.display(),
+                ckpt.step,
+                ckpt.time
+            );
+        }
     }
-    if !quiet {
-        eprintln!(
-            "resuming {} from step {} (t = {} s)",
-            dir.display(),
-            ckpt.step,
-            ckpt.time
-        );
-    }
-    let opts = nmm::simulation::RunOptions {
-        interrupt: None,
-        vtk: ckpt.options.vtk,
-        model_path: Some(path.clone()),
-        checkpoint_every: ckpt.options.checkpoint_every,
-        friction: ckpt.options.friction,
-        start: nmm::simulation::Start::Resume(Box::new(ckpt)),
-        threads,
-    };
+    opts.threads = threads;
     execute(model, &path, dir, opts, quiet)
 }
 

@@ -7,51 +7,31 @@
 
 use nmm::model::parse_model;
 use nmm::simulation::{monitor_values, Simulation};
-use nmm::verify::cases::{slope_model, STEADY_2HZ};
+use nmm::verify::cases::{
+    run_staged_slope, slope_model, staged_newmark_slip, staged_slope_model, STAGED_SETTLE_STEPS,
+    STEADY_2HZ,
+};
 use std::path::Path;
 
 const THETA: f64 = 30.0;
-const SETTLE_STEPS: usize = 20;
+const SETTLE_STEPS: usize = STAGED_SETTLE_STEPS;
 
 /// The shaken-slope model with a static settle stage before the shaking.
 fn staged_model() -> String {
-    let dt = 1e-3;
-    let shake = (STEADY_2HZ.duration / dt).round() as usize;
-    let text = slope_model(THETA, &STEADY_2HZ, "return-mapping", dt);
-    format!(
-        "{text}\n[[stage]]\nname = \"settle\"\nmode = \"static\"\ndt = 0.01\nsteps = {SETTLE_STEPS}\n\
-         [[stage]]\nname = \"shake\"\nmode = \"dynamic\"\ndt = {dt}\nsteps = {shake}\nbase_motion = true\n"
-    )
+    staged_slope_model(THETA, 0)
 }
 
 /// The Newmark (1965) rigid block's slip under the record of the staged model `text`,
 /// starting at the shake stage's start.
 fn newmark_slip(text: &str) -> f64 {
-    let record = parse_model(text, Path::new("."))
-        .unwrap()
-        .base_motion
-        .unwrap();
-    let accel = |t: f64| (-record.accel(t)[0], 0.0);
-    let reference =
-        nmm::verify::newmark_sliding::slide(THETA, 40.5, 9.81, 1e-3, &accel, STEADY_2HZ.duration);
-    reference.last().unwrap().1
+    staged_newmark_slip(text, THETA).unwrap()
 }
 
 /// (time, slip along the plane (+ downslope), settlement into the plane) at every step,
 /// and the stage of every step.
 fn run(text: &str) -> (Vec<(f64, f64, f64)>, Vec<String>) {
-    let model = parse_model(text, Path::new(".")).unwrap();
-    let mut sim = Simulation::new(model).unwrap();
-    let (s, c) = THETA.to_radians().sin_cos();
-    let (mut h, mut stages) = (Vec::new(), Vec::new());
-    while !sim.finished() {
-        sim.advance().unwrap();
-        let v = monitor_values(&sim);
-        // the plane dips toward +x: down-slope (c, −s), outward normal (s, c)
-        h.push((sim.time, v[0] * c - v[1] * s, -(v[0] * s + v[1] * c)));
-        stages.push(sim.stage_name().unwrap_or("").to_string());
-    }
-    (h, stages)
+    let r = run_staged_slope(text, THETA).unwrap();
+    (r.history, r.stages)
 }
 
 #[test]
@@ -280,7 +260,7 @@ fn a_stage_changes_the_constraint_springs() {
 /// partial slip, which the first-order block, less stiff, may show differently: printed).
 #[test]
 fn settle_then_shake_at_order_1() {
-    let text = staged_model().replacen("[cover]\n", "[cover]\norder = 1\n", 1);
+    let text = staged_slope_model(THETA, 1);
     assert!(text.contains("order = 1"));
     let (h, stages) = run(&text);
     assert_eq!(h.len(), SETTLE_STEPS + 4000);

@@ -42,6 +42,7 @@ __all__ = [
     "check",
     "plot",
     "run",
+    "resume",
     "read_history",
     "as_model",
     "study",
@@ -168,6 +169,8 @@ def run(
     progress: Union[bool, Callable[[int, int, float], None]] = False,
     threads: Optional[int] = None,
     vtk: Optional[bool] = None,
+    checkpoint_every: int = 0,
+    start_from: Union[str, os.PathLike, None] = None,
 ) -> Result:
     """Run a model as ``nmm run MODEL --out OUT`` does and return its :class:`Result`.
 
@@ -179,6 +182,12 @@ def run(
     called about every 0.1 s from the calling thread. ``threads``: the threads the run
     computes on (None: ``NMM_THREADS``, else the cores the process may use), as
     ``nmm run --threads``; the results are the same, bit for bit, whatever the count.
+    ``checkpoint_every``: also write a checkpoint every N steps (``--checkpoint-every``;
+    checkpoints are written at the end of each stage and on Ctrl-C anyway), so that
+    :func:`resume` can continue the run. ``start_from``: a checkpoint file of another run
+    (``OUT/checkpoints/step_NNNNNNNN.ckpt``) to start from, as ``nmm run --from``: the model
+    may change what a branch may change (loads, analysis keys, stages after the checkpoint);
+    a model that differs in what defines the saved state raises ``ValueError``.
 
     The GIL is released while the run computes. Ctrl-C stops the run cleanly after its
     current step, outputs kept, and raises :class:`Interrupted` (a KeyboardInterrupt) with
@@ -189,9 +198,11 @@ def run(
     model = as_model(model)
     if threads is not None and (not isinstance(threads, int) or threads < 1):
         raise ValueError(f"threads: expected None or an integer ≥ 1, got {threads!r}")
-    callback = _TextProgress() if progress is True else (progress or None)
-    if callback is not None and not callable(callback):
-        raise TypeError("progress: expected a bool or a callable(step, total_steps, time)")
+    if not isinstance(checkpoint_every, int) or checkpoint_every < 0:
+        raise ValueError(
+            f"checkpoint_every: expected an integer ≥ 0, got {checkpoint_every!r}"
+        )
+    callback = _progress_callback(progress)
     tmp = None
     if out is None:
         tmp = tempfile.mkdtemp(prefix="nmm-run-")
@@ -202,7 +213,15 @@ def run(
         vtk = True if vtk is None else bool(vtk)
     try:
         try:
-            summary, interrupted = _nmm.run_into(model, os.fspath(dest), vtk, callback, threads)
+            summary, interrupted = _nmm.run_into(
+                model,
+                os.fspath(dest),
+                vtk,
+                callback,
+                threads,
+                checkpoint_every,
+                None if start_from is None else os.fspath(start_from),
+            )
         except RunError as e:
             _attach_outputs(e, dest, None if tmp else dest)
             raise
@@ -213,6 +232,41 @@ def run(
     if interrupted:
         raise Interrupted(result)
     return result
+
+
+def resume(
+    out: Union[str, os.PathLike],
+    progress: Union[bool, Callable[[int, int, float], None]] = False,
+    threads: Optional[int] = None,
+) -> Result:
+    """Continue the run in ``out`` from its latest checkpoint, as ``nmm resume OUT`` does,
+    and return its :class:`Result` (the whole history, the rows before the checkpoint
+    included). The model is read again from the file the run was made from, which must not
+    have changed (a run of a model made in Python has no such file: run it from a file to
+    resume it). The resumed outputs are those of an uninterrupted run, byte for byte, for a
+    given thread count. ``progress`` and ``threads`` as in :func:`run`. A folder without a
+    checkpoint raises ``ValueError``.
+    """
+    if threads is not None and (not isinstance(threads, int) or threads < 1):
+        raise ValueError(f"threads: expected None or an integer ≥ 1, got {threads!r}")
+    callback = _progress_callback(progress)
+    dest = Path(out)
+    try:
+        summary, interrupted = _nmm.resume_into(os.fspath(dest), callback, threads)
+    except RunError as e:
+        _attach_outputs(e, dest, dest)
+        raise
+    result = Result(read_history(dest / "history.csv"), summary, dest)
+    if interrupted:
+        raise Interrupted(result)
+    return result
+
+
+def _progress_callback(progress: Any) -> Optional[Callable[[int, int, float], None]]:
+    callback = _TextProgress() if progress is True else (progress or None)
+    if callback is not None and not callable(callback):
+        raise TypeError("progress: expected a bool or a callable(step, total_steps, time)")
+    return callback
 
 
 def _attach_outputs(e: Exception, dest: Path, out: Optional[Path]) -> None:

@@ -915,8 +915,12 @@ impl nmm::simulation::RunObserver for Observer {
 /// `progress(step, total_steps, time)` about every 0.1 s. Returns (summary.json as a dict,
 /// interrupted); raises `ModelError` for a model that cannot be discretised and `RunError`
 /// for a run that stopped on an error (outputs kept).
+///
+/// `checkpoint_every`: also write a checkpoint every N steps (as `--checkpoint-every`);
+/// `start_from`: a checkpoint file of another run to start from (as `--from`).
 #[pyfunction]
-#[pyo3(signature = (model, out, vtk = true, progress = None, threads = None))]
+#[pyo3(signature = (model, out, vtk = true, progress = None, threads = None, checkpoint_every = 0, start_from = None))]
+#[allow(clippy::too_many_arguments)]
 fn run_into<'py>(
     py: Python<'py>,
     model: &Bound<'py, Model>,
@@ -924,9 +928,16 @@ fn run_into<'py>(
     vtk: bool,
     progress: Option<Bound<'py, PyAny>>,
     threads: Option<usize>,
+    checkpoint_every: usize,
+    start_from: Option<PathBuf>,
 ) -> PyResult<(Bound<'py, PyAny>, bool)> {
     let m = model.borrow();
     let inner = m.model.clone();
+    let start = match start_from {
+        None => nmm::simulation::Start::Fresh,
+        Some(c) => nmm::simulation::branch_start(&inner, &m.source, &c)
+            .map_err(|e| PyValueError::new_err(one_line(&e)))?,
+    };
     // the model file, for summary.json and checkpoints (`nmm resume` reads it again), only
     // while it is what this model was made from (not after changes made in Python)
     let model_path = (m.source != "<string>" && m.source != "<dict>")
@@ -937,9 +948,43 @@ fn run_into<'py>(
         vtk,
         model_path,
         threads,
+        checkpoint_every,
+        start,
         ..nmm::simulation::RunOptions::new()
     };
-    let stop = opts.interrupt.clone().expect("set above");
+    let source = m.source.clone();
+    drop(m);
+    drive(py, inner, &source, out, opts, progress)
+}
+
+/// Resume the run in `out` from its latest checkpoint (as `nmm resume`), its model read
+/// again from the file it was made from. Returns and raises as [`run_into`]; a folder
+/// without a checkpoint, or a model file changed since, raises `ValueError` (one line).
+#[pyfunction]
+#[pyo3(signature = (out, progress = None, threads = None))]
+fn resume_into<'py>(
+    py: Python<'py>,
+    out: PathBuf,
+    progress: Option<Bound<'py, PyAny>>,
+    threads: Option<usize>,
+) -> PyResult<(Bound<'py, PyAny>, bool)> {
+    let (model, path, mut opts) =
+        nmm::simulation::resume_start(&out).map_err(|e| PyValueError::new_err(one_line(&e)))?;
+    opts.threads = threads;
+    opts.interrupt = Some(Arc::new(AtomicBool::new(false)));
+    drive(py, model, &path.display().to_string(), out, opts, progress)
+}
+
+/// Runs `inner` into `out` with `opts` on a thread of its own (see [`run_into`]).
+fn drive<'py>(
+    py: Python<'py>,
+    inner: nmm::model::Model,
+    source: &str,
+    out: PathBuf,
+    opts: nmm::simulation::RunOptions,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<(Bound<'py, PyAny>, bool)> {
+    let stop = opts.interrupt.clone().expect("set by the callers");
     {
         let mut running = RUNNING.lock().unwrap_or_else(|e| e.into_inner());
         running.retain(|w| w.strong_count() > 0);
@@ -1018,7 +1063,7 @@ fn run_into<'py>(
             Ok((json_to_py(py, &summary.to_json())?, interrupted))
         }
         // a model that cannot be discretised: named as `nmm check` names it
-        Err(nmm::simulation::RunError::Setup(e)) => Err(model_error(format!("{}: {e}", m.source))),
+        Err(nmm::simulation::RunError::Setup(e)) => Err(model_error(format!("{source}: {e}"))),
         Err(e) => Err(RunError::new_err(one_line(&e.to_string()))),
     }
 }
@@ -1165,6 +1210,7 @@ fn _nmm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Model>()?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(run_into, m)?)?;
+    m.add_function(wrap_pyfunction!(resume_into, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     m.add_function(wrap_pyfunction!(stop_all, m)?)?;
     m.add_function(wrap_pyfunction!(run_frames, m)?)?;

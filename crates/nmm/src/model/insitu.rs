@@ -247,6 +247,8 @@ pub(crate) fn check_monitors(root: &Doc, monitors: &[Monitor], stages: &[Stage])
             MonitorKind::Interface { first, second } => {
                 ("interface", first.iter().chain(second).copied().collect())
             }
+            // a bolt is refused itself when it is anchored in an excavated block
+            MonitorKind::Bolt { .. } => continue,
         };
         let hit = blocks.iter().find_map(|&b| excavated_by(b).map(|s| (b, s)));
         if let Some((_b, s)) = hit {
@@ -258,6 +260,28 @@ pub(crate) fn check_monitors(root: &Doc, monitors: &[Monitor], stages: &[Stage])
                     s.name
                 ),
             ));
+        }
+    }
+    Ok(())
+}
+
+/// Refuse a bolt anchored in a block that a stage excavates (its anchor would go with the
+/// block: install it in the rock that stays).
+pub(crate) fn check_bolts(root: &Doc, bolts: &[super::types::Bolt], stages: &[Stage]) -> R<()> {
+    let tables = array_of_tables(root, "bolt")?;
+    for (k, (b, t)) in bolts.iter().zip(tables).enumerate() {
+        for (i, &blk) in b.blocks.iter().enumerate() {
+            if let Some(s) = stages.iter().find(|s| s.excavate.contains(&blk)) {
+                let f: Fields = root.fields(format!("[[bolt]] {:?}", b.name), t, "bolt", Some(k));
+                return Err(f.err(
+                    "points",
+                    format!(
+                        "anchor {} is in a block that [[stage]] {:?} excavates (anchor bolts in the rock that stays)",
+                        i + 1,
+                        s.name
+                    ),
+                ));
+            }
         }
     }
     Ok(())

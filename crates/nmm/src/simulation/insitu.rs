@@ -143,6 +143,7 @@ impl Simulation {
         for g in &mut self.ghosts {
             g.dofs.iter_mut().for_each(dof);
         }
+        self.bolts.renumber(&map);
         self.elem_dofs = ElementDofTable::new(&self.disc);
         self.contacts
             .set_removed_blocks(self.insitu.excavated.clone());

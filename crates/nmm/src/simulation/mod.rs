@@ -16,26 +16,36 @@
 //! 6. **commit**: u, v (Newmark β = ½, γ = 1), stresses σ += D B Δu, contact states;
 //! 7. **update geometry**: element nodes and polygons move with the material.
 //!
-//! Outputs are written by [`run`] through `outputs.rs`.
+//! Outputs are written by [`run`] (`run.rs`, the driver) through `writers.rs`.
 
+mod bolt_frames;
 pub mod checkpoint;
+mod energy;
 mod insitu;
 pub mod memory;
-mod outputs;
+mod run;
 mod setup;
+mod stages;
+mod static_step;
+mod writers;
 
-pub use outputs::{
-    blocks_grid, checkpoint_name, contacts_grid, history_columns, latest_checkpoint,
-    monitor_values, peak_memory_bytes, run, run_observed, run_simulation, write_block_table,
-    RunError, RunObserver, RunOptions, RunStatus, RunSummary, Silent, Start,
+pub use bolt_frames::bolts_grid;
+pub use energy::Energy;
+pub use static_step::{STATIC_MAX_MOTION, STATIC_OUTER_ITERATIONS};
+
+pub use run::{
+    branch_start, checkpoint_name, latest_checkpoint, peak_memory_bytes, resume_start, run,
+    run_observed, run_simulation, with_friction, RunError, RunObserver, RunOptions, RunStatus,
+    RunSummary, Silent, Start,
 };
+pub use writers::{blocks_grid, contacts_grid, history_columns, monitor_values, write_block_table};
 
 mod step;
 
 use crate::assembly::global::{gather_into, NO_DOF};
 use crate::contact::set::ContactSet;
 use crate::cover::basis::{CoverBasis, ElementDofTable, MAX_ELEMENT_DOFS};
-use crate::cover::{Discretisation, MaterialPoint};
+use crate::cover::{discretise_with, Discretisation, MaterialPoint};
 use crate::material::{elasticity_matrix, stress as hooke, Mat3};
 use crate::model::{Mode, Model, TimeFunction};
 use crate::solver::{
@@ -200,113 +210,6 @@ pub struct StepReport {
     pub linear: LinearStats,
 }
 
-/// The energy of the whole system (J per metre of thickness) after a step, the work done on
-/// it and the energy it dissipated so far.
-///
-/// Stored: kinetic ½ vᵀMv + elastic ½ Σ A σᵀD⁻¹σ + gravity potential (−work of gravity
-/// since the start) + contact springs ½ Σ (t_N²/p_N + t_S²/p_S) + penalty springs (ghost
-/// ties and constraints about their targets) = `total`. `external_work` is the work of the
-/// loads and of the base motion's inertial forces; `constraint_work` that of the prescribed
-/// (moving) constraints.
-///
-/// Dissipated, summed over the steps, each from its own formula:
-/// * `friction`: Σ t_S Δγ over the contacts (force on the Coulomb limit × plastic slip);
-/// * `damping`: Δuᵀ C v_{n+1} (Rayleigh damping, dynamic mode);
-/// * `algorithmic`: what the implicit scheme dissipates by taking the forces at the step's
-///   end. The scheme (β = ½, γ = 1) gives Δu = Δt (v_n + v_{n+1})/2, so the inertia force
-///   does exactly the work ΔT; the elastic force f(σ_n) + KΔu does ΔU + ½ ΔuᵀKΔu, the
-///   penalty springs ½ ΔuᵀPΔu more than they store, and each contact its own excess
-///   ([`crate::contact::set::StepDissipation`]). These are summed;
-/// * `static_reset` (static mode): Δuᵀ R(Δu), the work of the forces still out of balance
-///   at the step's end (R: the static residual), which the reset of the velocity to zero
-///   discards; zero, to the tolerance, for a step that reached equilibrium;
-/// * `contact_update`: what the contact springs lose when the contacts are detected anew on
-///   the moved geometry at each step's start (new gaps and tributary lengths): their energy
-///   at the end of a step minus their energy at the start of the next.
-///
-/// Balance: total + dissipated = initial + external work + constraint work, up to the Newton
-/// tolerance and the stresses carried onto the moved elements: `balance_error`. Without external work the total can only fall:
-/// `max_rise` = max over the steps of total − external work − initial total.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Energy {
-    pub kinetic: f64,
-    pub elastic: f64,
-    pub gravity: f64,
-    pub contact: f64,
-    pub penalty: f64,
-    pub external_work: f64,
-    /// total at the start of the run
-    pub initial: f64,
-    /// largest total so far
-    pub max: f64,
-    /// the largest |component| seen (a scale for the rise)
-    pub scale: f64,
-    /// work of the prescribed (moving) constraints so far: Σ Δū ∂E/∂ū, each penalty
-    /// spring's pull on its moving target at the step's end times the target's move
-    pub constraint_work: f64,
-    /// dissipated by friction so far
-    pub friction: f64,
-    /// dissipated by damping so far
-    pub damping: f64,
-    /// dissipated by the time integration so far
-    pub algorithmic: f64,
-    /// static mode: the work of the forces out of balance at each step's end, which the
-    /// reset of the velocity discards (zero for steps in equilibrium)
-    pub static_reset: f64,
-    /// what the contact springs lost when the contacts were detected anew at each step's
-    /// start (their energy at the end of a step − at the start of the next)
-    pub contact_update: f64,
-    /// the elastic and kinetic energy the excavated blocks had when they were removed
-    pub excavated: f64,
-    /// the largest energy flow seen: |external work|, |gravity potential|, dissipated (a
-    /// scale for the balance error)
-    pub flow: f64,
-}
-
-impl Energy {
-    pub fn total(&self) -> f64 {
-        self.kinetic + self.elastic + self.gravity + self.contact + self.penalty
-    }
-    /// The components and the external work, in the order of the fields.
-    pub fn components(&self) -> [f64; 6] {
-        [
-            self.kinetic,
-            self.elastic,
-            self.gravity,
-            self.contact,
-            self.penalty,
-            self.external_work,
-        ]
-    }
-    /// The largest rise of the total above its start, net of the external work.
-    pub fn max_rise(&self) -> f64 {
-        self.max - self.initial
-    }
-    /// Dissipated so far: friction + damping + algorithmic + static reset + contact update
-    /// (+ what excavated blocks took with them).
-    pub fn dissipated(&self) -> f64 {
-        let d =
-            self.friction + self.damping + self.algorithmic + self.static_reset + self.contact_update;
-        if self.excavated != 0.0 {
-            d + self.excavated
-        } else {
-            d
-        }
-    }
-    /// total + dissipated − initial − external work: zero when the balance closes.
-    pub fn balance_error(&self) -> f64 {
-        self.total() + self.dissipated() - self.initial - self.external_work - self.constraint_work
-    }
-    /// [`Energy::balance_error`] relative to the largest energy flow of the run.
-    pub fn balance_error_relative(&self) -> f64 {
-        if self.flow > 0.0 {
-            self.balance_error() / self.flow
-        } else {
-            0.0
-        }
-    }
-}
-
 /// Cumulative per-stage timings of a run.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Timings {
@@ -355,6 +258,8 @@ pub struct Simulation {
     /// element (the stress is linear in the weights); empty at order 0.
     pub stress_nodes: Vec<[f64; 3]>,
     pub contacts: ContactSet,
+    /// The rock bolts ([`crate::bolt`]).
+    pub bolts: crate::bolt::BoltSet,
     pub timings: Timings,
     /// The energy balance after the last step.
     pub energy: Energy,
@@ -417,13 +322,9 @@ impl Simulation {
         let blocks: Vec<_> = model
             .blocks
             .iter()
-            .map(|b| crate::cover::Shape {
-                outer: &b.vertices,
-                holes: &b.holes,
-                fixed: b.fixed,
-            })
+            .map(|b| (b.vertices.clone(), b.fixed))
             .collect();
-        let disc = crate::cover::discretise_shapes(
+        let disc = discretise_with(
             &blocks,
             model.cover_size,
             model.cover_origin,
@@ -451,6 +352,7 @@ impl Simulation {
         let empty = Arc::new(SparsePattern::from_groups(n, std::iter::empty()));
         let mut sim = Simulation {
             contacts: ContactSet::default(),
+            bolts: Default::default(),
             energy: Energy::default(),
             step: 0,
             time: 0.0,
@@ -513,6 +415,8 @@ impl Simulation {
         sim.penalty_base = sim.penalties.clone();
         sim.penalty_factor = sim.model.analysis.constraint_penalty;
         setup::monitors(&mut sim)?;
+        sim.bolts = crate::bolt::BoltSet::new(&sim.model, &sim.disc, &sim.elem_dofs)?;
+        sim.install_bolts();
         sim.ghosts = crate::cover::stabilise::ghost_ties(&sim.disc)
             .iter()
             .map(|t| {
@@ -552,10 +456,12 @@ impl Simulation {
         for g in &self.ghosts {
             groups.push(g.dofs.iter().copied().filter(|&x| x != NO_DOF).collect());
         }
+        groups.extend(self.bolts.groups());
         let pattern = Arc::new(SparsePattern::from_groups(
             self.n_dofs(),
             groups.iter().map(|g| g.as_slice()),
         ));
+        self.bolts.bind(&pattern);
         let slot = |r: usize, c: usize| -> u32 {
             if r == NO_DOF || c == NO_DOF {
                 u32::MAX
@@ -623,111 +529,6 @@ impl Simulation {
             &self.unknowns_per_block(),
         ));
         w
-    }
-
-    /// End time of the analysis (of its last stage).
-    pub fn end_time(&self) -> f64 {
-        let a = &self.model.analysis;
-        let mut t = time::grid_time(self.time_origin, a.steps as u64, a.dt);
-        for s in self.model.stages.iter().skip(self.stage + 1) {
-            t = time::grid_time(t, s.analysis.steps as u64, s.analysis.dt);
-        }
-        t
-    }
-
-    /// Whether the analysis has reached its end time (completed all the full steps of its
-    /// last stage).
-    pub fn finished(&self) -> bool {
-        self.stage_finished() && self.stage + 1 >= self.model.stages.len()
-    }
-
-    /// Whether the current stage (the whole analysis without stages) has completed its
-    /// full steps.
-    pub fn stage_finished(&self) -> bool {
-        self.full_steps >= self.model.analysis.steps as u64
-    }
-
-    /// The index of the current stage in `model.stages` (0 without stages).
-    pub fn stage_index(&self) -> usize {
-        self.stage
-    }
-
-    /// The current stage's name (`None` without `[[stage]]`). After a step, the stage that
-    /// step belonged to: the next stage begins with the next step.
-    pub fn stage_name(&self) -> Option<&str> {
-        self.model.stages.get(self.stage).map(|s| s.name.as_str())
-    }
-
-    /// Full steps of the whole analysis (every stage), for progress reports.
-    pub fn total_steps(&self) -> usize {
-        if self.model.stages.is_empty() {
-            self.model.analysis.steps
-        } else {
-            self.model.stages.iter().map(|s| s.analysis.steps).sum()
-        }
-    }
-
-    /// Full steps of the stages before the current one plus those done in it.
-    pub fn full_steps_done(&self) -> usize {
-        let before: usize = self
-            .model
-            .stages
-            .iter()
-            .take(self.stage)
-            .map(|s| s.analysis.steps)
-            .sum();
-        before + self.full_steps as usize
-    }
-
-    /// The base acceleration at time `t` of the run's clock: the record at `t` − the
-    /// start of the stage that applies it (the record from t = 0 without stages), zero in a
-    /// stage without base motion.
-    pub fn base_acceleration(&self, t: f64) -> crate::geometry::Vec2 {
-        match (&self.model.base_motion, self.base_origin) {
-            (Some(b), Some(t0)) => b.accel(t - t0),
-            _ => [0.0, 0.0],
-        }
-    }
-
-    /// Begin the next stage: its analysis keys, a step grid from the current time, the
-    /// base-motion record from its start if it asks for it. Displacements, stresses and
-    /// contact states carry over; after a static stage the velocity is zero (a static step
-    /// ends at rest) and the next stage's first iterate starts from zero.
-    fn begin_next_stage(&mut self) {
-        let was_static = self.model.analysis.mode == Mode::Static;
-        self.stage += 1;
-        let s = &self.model.stages[self.stage];
-        self.model.analysis = s.analysis.clone();
-        self.base_origin = s.base_motion.then_some(self.time);
-        self.time_origin = self.time;
-        self.full_steps = 0;
-        self.partial = 0.0;
-        self.scale_constraint_penalties();
-        self.excavate_through(self.stage);
-        if was_static {
-            self.v.iter_mut().for_each(|x| *x = 0.0);
-            self.last_du.iter_mut().for_each(|x| *x = 0.0);
-            self.last_dt = 0.0;
-        }
-        // the friction law and the inertia coefficient may change with the stage
-        self.contacts_current = false;
-        self.linear.step = None;
-    }
-
-    /// The constraint springs for the current stage's `constraint_penalty`: those set up
-    /// with the first stage's factor, scaled (each spring is linear in the factor).
-    fn scale_constraint_penalties(&mut self) {
-        let s = self.model.analysis.constraint_penalty / self.penalty_factor;
-        for (p, b) in self.penalties.iter_mut().zip(&self.penalty_base) {
-            if s == 1.0 {
-                p.k.clone_from(&b.k);
-                p.g.clone_from(&b.g);
-            } else {
-                p.k = b.k.iter().map(|x| x * s).collect();
-                p.g = b.g.iter().map(|x| x * s).collect();
-            }
-        }
-        self.linear.step = None;
     }
 
     /// Advance one step, cutting Δt on non-convergence. The step covers the rest of the
@@ -901,6 +702,8 @@ impl Simulation {
             }
         }
         lp.step = Some(self.step);
+        // the bolts' kinematics on the geometry at t_n
+        self.bolts.begin_step(&self.disc, &self.u);
         self.timings.stages.assembly += ta.elapsed();
     }
 
@@ -1022,109 +825,7 @@ impl Simulation {
         };
         let mut du = vec![0.0; n];
         let (rep, equilibrium) = if static_mode {
-            let sigma0 = cm.max(self.static_regularisation());
-            // Without contacts the problem is linear: one solve of K Δu = F is the
-            // equilibrium (if K holds every block). Otherwise, and when that fails (a block
-            // that nothing holds), Newton with continuation in its tangent first, from DDA's
-            // inertia of Δt (cheap when it works), then the continuation with inner solves
-            // from at least the model's regularisation (robust), then no equilibrium.
-            let mut rep = crate::solver::NewtonReport::default();
-            if self.contacts.contacts.is_empty() {
-                rep = self.solve(
-                    &rhs,
-                    0.0,
-                    None,
-                    Regularisation::None { fallback: cm },
-                    0,
-                    None,
-                    &mut du,
-                );
-                if !rep.converged {
-                    du.iter_mut().for_each(|x| *x = 0.0);
-                }
-            }
-            if !rep.converged {
-                let spent = rep.iterations;
-                rep = self.solve(
-                    &rhs,
-                    0.0,
-                    None,
-                    Regularisation::Continuation {
-                        initial: cm,
-                        floor: 1e-6 * cm,
-                    },
-                    1,
-                    None,
-                    &mut du,
-                );
-                rep.iterations += spent;
-            }
-            let mut reached = rep.converged;
-            if !reached && rep.error.is_none() {
-                du.iter_mut().for_each(|x| *x = 0.0);
-                let spent = rep.iterations;
-                let (r, ok) = self.static_continuation(&rhs, sigma0, &mut du);
-                rep = r;
-                rep.iterations += spent;
-                reached = ok;
-            }
-            if reached || matches!(rep.error, Some(crate::solver::SolveError::OutOfMemory)) {
-                (rep, true)
-            } else {
-                // No equilibrium: DDA's quasi-static step from where the continuation
-                // stopped (the parts that have an equilibrium are in it there; only the
-                // mechanism's modes carry a residual): the inertia of Δt, anchored at that
-                // point, moves the mechanism and leaves the rest; Δt is shortened (the
-                // inertia raised) until no point moves more than STATIC_MAX_MOTION × h.
-                let limit = STATIC_MAX_MOTION * self.model.cover_size;
-                // the anchor only where it is itself within the limit (a continuation that
-                // wandered off is no point to start a limited step from)
-                let anchor = if self.largest_motion(&du) <= limit {
-                    du.clone()
-                } else {
-                    vec![0.0; n]
-                };
-                let mut c = cm;
-                let mut limited = false;
-                let mut spent = rep.iterations;
-                let mut last = rep;
-                for _ in 0..12 {
-                    du.copy_from_slice(&anchor);
-                    let mut r = self.solve(
-                        &rhs,
-                        0.0,
-                        Some((&anchor, c)),
-                        Regularisation::None { fallback: c },
-                        MAX_REJECTIONS,
-                        None,
-                        &mut du,
-                    );
-                    spent += r.iterations;
-                    r.iterations = spent;
-                    if !r.converged {
-                        last = r;
-                        if last.error.is_some() {
-                            break;
-                        }
-                        c *= 10.0;
-                        continue;
-                    }
-                    // the motion of the step, from its start
-                    let motion = self.largest_motion(&du);
-                    last = r;
-                    if motion <= limit {
-                        limited = true;
-                        break;
-                    }
-                    c *= (1.2 * motion / limit).max(2.0);
-                }
-                if !limited && last.converged {
-                    // no inertia held the step within the limit: a shorter step
-                    last.converged = false;
-                    last.residuals.push(f64::NAN);
-                }
-                (last, false)
-            }
+            self.static_step(&rhs, cm, &mut du)
         } else {
             // the first iterate: the last increment, scaled to this Δt
             if self.last_dt > 0.0 {
@@ -1273,19 +974,6 @@ impl Simulation {
         rep
     }
 
-    /// The true residual norm of the static problem (L = K + P) at `du` and its physical
-    /// force scale.
-    fn static_merit(&mut self, rhs: &Rhs, du: &[f64]) -> (f64, f64) {
-        self.with_system(rhs, 0.0, None, |sys, _| {
-            let mut r = vec![0.0; du.len()];
-            crate::solver::PiecewiseSystem::residual(sys, du, &mut r);
-            (
-                r.iter().map(|v| v * v).sum::<f64>().sqrt(),
-                crate::solver::PiecewiseSystem::force_scale(sys),
-            )
-        })
-    }
-
     /// Builds the step's system (see [`Simulation::solve`]) and hands it to `f`.
     fn with_system<T>(
         &mut self,
@@ -1334,6 +1022,7 @@ impl Simulation {
             targets: &targets,
             u_n: &self.u,
             contacts: &mut self.contacts,
+            bolts: &mut self.bolts,
             tangent: &mut lp.tangent,
             threads: &self.threads,
             sigma: 0.0,
@@ -1341,109 +1030,6 @@ impl Simulation {
             work: Vec::with_capacity(rhs.f.len()),
         };
         f(&mut sys, &mut *self.solver)
-    }
-
-    /// A static step by pseudo-transient continuation with inner Newton solves: from
-    /// Δu₀ = 0, each outer iteration k solves the regularised problem
-    /// R(Δu) − σ_k M (Δu − Δu_k) = 0 (a quasi-static step of DDA's kind with the inertia of
-    /// σ_k, well conditioned whatever the contacts do), then lowers σ with the static
-    /// residual (σ_{k+1} = σ_k ‖R(Δu_{k+1})‖/‖R(Δu_k)‖, switched evolution relaxation) until
-    /// the static residual ‖R‖ is below the tolerance: the point reached is the static
-    /// equilibrium. Returns the report (iterations summed over the inner solves) and
-    /// whether the equilibrium was reached; it is not when the residual stops falling (a
-    /// mechanism: no equilibrium exists) or the outer iterations run out.
-    fn static_continuation(
-        &mut self,
-        rhs: &Rhs,
-        sigma0: f64,
-        du: &mut [f64],
-    ) -> (crate::solver::NewtonReport, bool) {
-        let tolerance = self.model.analysis.tolerance;
-        let mut sigma = sigma0;
-        let floor = 1e-8 * sigma0;
-        let mut anchor = du.to_vec();
-        let (mut merit, _) = self.static_merit(rhs, du);
-        let mut total = crate::solver::NewtonReport::default();
-        let mut stalled = 0;
-        for _ in 0..STATIC_OUTER_ITERATIONS {
-            // the inner problem only needs to be solved well below the static residual
-            let (_, scale) = self.static_merit(rhs, du);
-            let inner = (0.01 * merit / scale.max(f64::MIN_POSITIVE)).clamp(tolerance, 1e-4);
-            let mut rep = self.solve(
-                rhs,
-                0.0,
-                Some((&anchor, sigma)),
-                Regularisation::None { fallback: sigma },
-                MAX_REJECTIONS,
-                Some(inner),
-                du,
-            );
-            total.iterations += rep.iterations;
-            total.active_set_changes += rep.active_set_changes;
-            total.linear += rep.linear;
-            total.residuals.append(&mut rep.residuals);
-            total.error = rep.error.clone();
-            if rep.error.is_some() {
-                return (total, false);
-            }
-            if !rep.converged {
-                // the inner problem needs more inertia: from the last anchor
-                du.copy_from_slice(&anchor);
-                sigma *= 10.0;
-                stalled += 1;
-                if stalled > 3 {
-                    break;
-                }
-                continue;
-            }
-            let (m, scale) = self.static_merit(rhs, du);
-            if m <= tolerance * scale {
-                total.converged = true;
-                total.residuals.push(m);
-                return (total, true);
-            }
-            if m < 0.9 * merit {
-                stalled = 0;
-            } else {
-                stalled += 1;
-                if stalled > 2 {
-                    break;
-                }
-            }
-            sigma = (sigma * (m / merit).min(1.0)).max(floor);
-            merit = merit.min(m);
-            anchor.copy_from_slice(du);
-        }
-        (total, false)
-    }
-
-    /// The regularisation coefficient of static steps (on the mass matrix, 1/s²): 1% of
-    /// the largest contact stiffness per vertex (p_N) over the mass of a cover of the
-    /// lightest material (ρ h²), so that a cover held only by the regularisation (its
-    /// contacts all open or sliding) moves about 100 × its unbalanced force / p_N per
-    /// iteration. Without contacts, 1% of the largest E over ρ h² (the elastic scale).
-    fn static_regularisation(&self) -> f64 {
-        let h = self.model.cover_size;
-        let rho = self
-            .model
-            .materials
-            .iter()
-            .map(|m| m.density)
-            .fold(f64::INFINITY, f64::min);
-        let stiffness = self
-            .model
-            .interfaces
-            .iter()
-            .map(|i| i.normal_penalty)
-            .fold(0.0, f64::max)
-            .max(
-                self.model
-                    .materials
-                    .iter()
-                    .map(|m| m.young)
-                    .fold(0.0, f64::max),
-            );
-        0.01 * stiffness / (rho * h * h)
     }
 
     /// The first element whose triangle or polygon would change orientation under `du`.
@@ -1529,6 +1115,7 @@ impl Simulation {
             self.v.iter_mut().for_each(|x| *x = 0.0);
         }
         self.contacts.commit(du);
+        self.bolts.commit(du);
         let mut max_du = 0.0f64;
         let basis = self.disc.basis;
         let nd = self.elem_dofs.stride();
@@ -1599,178 +1186,6 @@ impl Simulation {
         self.step += 1;
     }
 
-    /// The energy balance after a committed step of `du` over `dt` (see [`Energy`]).
-    fn update_energy(&mut self, du: &[f64], v_n: &[f64], dt: f64, out_of_balance: f64) {
-        let t1 = self.time + dt;
-        let lp = &self.linear;
-        let g = self.model.analysis.gravity;
-        let a_base = self.base_acceleration(t1);
-        // work of gravity and of the base's inertial force over the step (body forces of the
-        // step's geometry), and of the loads
-        let (mut w_grav, mut w_ext) = (0.0, 0.0);
-        let nd = self.elem_dofs.stride();
-        let rl = self.disc.basis.record_len();
-        for (ei, dofs) in self.elem_dofs.iter().enumerate() {
-            if dofs.iter().all(|&d| d == NO_DOF) {
-                continue;
-            }
-            let body = &lp.records[ei * rl + 2 * nd * nd..ei * rl + 2 * nd * nd + nd / 2];
-            for r in 0..nd {
-                if dofs[r] != NO_DOF {
-                    let x = du[dofs[r]] * body[r / 2];
-                    w_grav += x * g[r % 2];
-                    w_ext -= x * a_base[r % 2];
-                }
-            }
-        }
-        w_ext += self.f_load.iter().zip(du).map(|(f, d)| f * d).sum::<f64>();
-        let mut mv = vec![0.0; self.v.len()];
-        step::sym_mul(lp.tangent.element(), &lp.m, &self.v, &mut mv);
-        let kinetic = 0.5 * mv.iter().zip(&self.v).map(|(a, b)| a * b).sum::<f64>();
-        let initial_kinetic = if self.step == 0 {
-            step::sym_mul(lp.tangent.element(), &lp.m, v_n, &mut mv);
-            0.5 * mv.iter().zip(v_n).map(|(a, b)| a * b).sum::<f64>()
-        } else {
-            0.0
-        };
-        let elastic: f64 = match self.disc.basis {
-            CoverBasis::Constant => self
-                .disc
-                .elements
-                .iter()
-                .zip(&self.stress)
-                .map(|(e, s)| {
-                    let mat = self.model.blocks[e.block].material;
-                    crate::geometry::moments::polygon_area(&e.polygon)
-                        * crate::material::stress_energy_density(&self.d_mats[mat], *s)
-                })
-                .sum(),
-            _ => self
-                .disc
-                .elements
-                .iter()
-                .zip(self.stress_nodes.chunks_exact(3))
-                .map(|(e, s)| {
-                    if s.iter().all(|x| *x == [0.0; 3]) {
-                        return 0.0;
-                    }
-                    let mat = self.model.blocks[e.block].material;
-                    let ww = crate::assembly::quadratic::weight_products(e);
-                    let mut en = 0.0;
-                    for m in 0..3 {
-                        for n in 0..3 {
-                            en += ww[m][n]
-                                * crate::material::stress_energy_product(
-                                    &self.d_mats[mat],
-                                    s[m],
-                                    s[n],
-                                );
-                        }
-                    }
-                    en
-                })
-                .sum(),
-        };
-        // the penalty springs' energy; the work their moving targets did over the step,
-        // Δū ∂E/∂ū at the step's end (the force the spring pulls its target with, taken at
-        // the end like every force of the step); and the scheme's share of a moving target,
-        // −Δū gᵀΔu + ½ Δū² Σk (with ½ ΔuᵀkΔu, added below: ½ [Δu, Δū]ᵀ H [Δu, Δū] ≥ 0 for the
-        // energy's Hessian H)
-        let (mut penalty, mut w_constraints, mut moving) = (0.0, 0.0, 0.0);
-        let (mut ue, mut due) = (Vec::new(), Vec::new());
-        for p in &self.penalties {
-            let f = &self.functions[p.function];
-            let (target0, target1) = (f.eval(self.time), f.eval(t1));
-            penalty += p.energy(&self.u, target1);
-            let dt_target = target1 - target0;
-            if dt_target != 0.0 {
-                let n = p.dofs.len();
-                ue.resize(n, 0.0);
-                due.resize(n, 0.0);
-                gather_into(&self.u, &p.dofs, &mut ue);
-                gather_into(du, &p.dofs, &mut due);
-                let ksum: f64 = p.k.iter().sum();
-                let gu: f64 = (0..n).map(|i| p.g[i] * ue[i]).sum();
-                let gdu: f64 = (0..n).map(|i| p.g[i] * due[i]).sum();
-                w_constraints += dt_target * (target1 * ksum - gu);
-                moving += -dt_target * gdu + 0.5 * dt_target * dt_target * ksum;
-            }
-        }
-        for gh in &self.ghosts {
-            let n = gh.dofs.len();
-            ue.resize(n, 0.0);
-            gather_into(&self.u, &gh.dofs, &mut ue);
-            for i in 0..n {
-                for j in 0..n {
-                    penalty += 0.5 * gh.k[i * n + j] * ue[i] * ue[j];
-                }
-            }
-        }
-        // dissipation of the step: damping Δuᵀ C v_{n+1}; the scheme's ½ Δuᵀ (K + P) Δu of
-        // the elements and penalty springs, and the contacts' own (see [`Energy`])
-        let mut y = vec![0.0; du.len()];
-        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
-        let mut damping = 0.0;
-        if !lp.c.is_empty() && self.model.analysis.mode == Mode::Dynamic {
-            step::sym_mul(lp.tangent.element(), &lp.c, &self.v, &mut y);
-            damping = dot(du, &y);
-        }
-        step::sym_mul(lp.tangent.element(), &lp.k, du, &mut y);
-        let mut algorithmic = 0.5 * dot(du, &y) + moving;
-        step::sym_mul(lp.tangent.element(), &lp.p, du, &mut y);
-        algorithmic += 0.5 * dot(du, &y);
-        let contacts = self.contacts.step_dissipation();
-        algorithmic += contacts.algorithmic;
-        let first = self.step == 0;
-        // the contact springs' energy at this step's start, on the contacts detected anew
-        // on the moved geometry, against what the last step left in them
-        let redetection = self.energy.contact - contacts.start_energy;
-        let e = &mut self.energy;
-        e.gravity -= w_grav;
-        e.external_work += w_ext;
-        e.constraint_work += w_constraints;
-        e.friction += contacts.friction;
-        e.damping += damping + contacts.damping;
-        e.algorithmic += algorithmic;
-        e.static_reset += out_of_balance;
-        e.contact_update += redetection;
-        e.flow = e
-            .flow
-            .max(e.external_work.abs())
-            .max(e.constraint_work.abs())
-            .max(e.gravity.abs())
-            .max(e.dissipated().abs());
-        e.kinetic = kinetic;
-        e.elastic = elastic;
-        e.contact = self.contacts.spring_energy();
-        e.penalty = penalty;
-        if first {
-            // the state before the first step: unstressed (or at the in-situ stress), no
-            // springs stretched, moving only if a velocity was set (½ v₀ᵀMv₀)
-            e.initial = initial_kinetic + self.insitu.initial_elastic;
-            e.max = e.initial;
-        }
-        let net = e.total() - e.external_work;
-        e.max = e.max.max(net);
-        for c in e.components() {
-            e.scale = e.scale.max(c.abs());
-        }
-    }
-
-    /// The clock after a committed step of `dt`: a step that covered the rest of its
-    /// interval ends on the grid, t = t₀ + kΔt; a cut one ends at t₀ + kΔt + (time covered).
-    fn advance_clock(&mut self, dt: f64) {
-        let step = self.model.analysis.dt;
-        // `dt` is the remainder itself (same expression as in `advance`) or a half of it
-        if dt >= step - self.partial {
-            self.full_steps += 1;
-            self.partial = 0.0;
-        } else {
-            self.partial += dt;
-        }
-        self.time = time::grid_time(self.time_origin, self.full_steps, step) + self.partial;
-    }
-
     /// Displacement (in the frame of the base) at a material point.
     pub fn displacement_at(&self, p: &MaterialPoint) -> [f64; 2] {
         self.disc.displacement_at(p, &self.u)
@@ -1789,13 +1204,6 @@ struct Rhs<'a> {
     t1: f64,
     dt: f64,
 }
-
-/// Outer iterations of the static continuation ([`Simulation::static_continuation`]).
-pub const STATIC_OUTER_ITERATIONS: usize = 40;
-
-/// Largest motion of a static step that found no equilibrium, as a fraction of the cover
-/// size h (DDA's step-by-step development of a mechanism).
-pub const STATIC_MAX_MOTION: f64 = 0.1;
 
 /// Why an attempt at a step failed.
 enum Failure {

@@ -580,6 +580,18 @@ impl ContactSet {
         let density = 2.0 / self.spacing;
         let mut pairs = sweep_and_prune(&boxes);
         pairs.sort_unstable();
+        // An intact bond holds its contact: a bonded vertex that passed the end of its face
+        // (by the bond's elastic shear, or round-off) stays in contact with that face
+        // ([`held_edge`]); only laws with bonds have such contacts.
+        let mut held: HashMap<(usize, usize), Vec<(usize, Vec2)>> = HashMap::new();
+        for (k, (l, h, n)) in &self.committed {
+            if l.law().bond(h) == Some(true) {
+                held.entry((k.0, k.2)).or_default().push((k.1, *n));
+            }
+        }
+        for v in held.values_mut() {
+            v.sort_unstable_by_key(|x| x.0);
+        }
         for (a, b) in pairs {
             if model.blocks[a].fixed && model.blocks[b].fixed {
                 continue;
@@ -588,7 +600,18 @@ impl ContactSet {
                 continue;
             }
             for (pa, pb) in [(a, b), (b, a)] {
-                for mut ve in vertex_edge_contacts(&polys[pa], &polys[pb], search, &corners[pa]) {
+                let mut found = vertex_edge_contacts(&polys[pa], &polys[pb], search, &corners[pa]);
+                if let Some(hs) = held.get(&(pa, pb)) {
+                    for &(v, n_old) in hs {
+                        if found.iter().any(|f| f.vertex == v) {
+                            continue;
+                        }
+                        if let Some(e) = held_edge(&polys[pa][v], &polys[pb], n_old, search) {
+                            found.push(VertexEdge { vertex: v, ..e });
+                        }
+                    }
+                }
+                for mut ve in found {
                     let key = (pa, ve.vertex, pb);
                     if let Some((_, _, n_old)) = self.committed.get(&key) {
                         // Corner against corner the entrance edge is nearly a tie; keep the
@@ -1148,6 +1171,49 @@ pub fn uses_bonds(model: &Model) -> bool {
         .chain(std::iter::once(model.analysis.friction))
         .chain(model.stages.iter().map(|s| s.analysis.friction))
         .any(|l| l.law().has_bonds())
+}
+
+/// For a bonded contact the detection did not find: the segment of `b` with the normal
+/// `n_old` the contact had (within 0.99) nearest to `p`, whose strip, lengthened by
+/// `reach` at both ends, holds `p` within the gap range [−`reach`, `reach`] (the
+/// projection clamped to the segment).
+fn held_edge(p: &Vec2, b: &[Vec2], n_old: Vec2, reach: f64) -> Option<VertexEdge> {
+    let m = b.len();
+    let mut best: Option<(f64, VertexEdge)> = None;
+    for j in 0..m {
+        let (a, q) = (b[j], b[(j + 1) % m]);
+        let d = sub(q, a);
+        let len = norm(d);
+        if len == 0.0 {
+            continue;
+        }
+        let t = [d[0] / len, d[1] / len];
+        let n = [t[1], -t[0]];
+        if dot(n, n_old) < 0.99 {
+            continue;
+        }
+        let s = dot(sub(*p, a), t);
+        let gap = -cross(d, sub(*p, a)) / len;
+        if s < -reach || s > len + reach || gap.abs() > reach {
+            continue;
+        }
+        // distance beyond the segment's ends, then the gap: the nearest segment
+        let out = (-s).max(s - len).max(0.0) + gap.abs();
+        if best.as_ref().is_none_or(|(o, _)| out < *o) {
+            best = Some((
+                out,
+                VertexEdge {
+                    vertex: 0,
+                    segment: j,
+                    xi: (s / len).clamp(0.0, 1.0),
+                    gap,
+                    normal: n,
+                    tangent: t,
+                },
+            ));
+        }
+    }
+    best.map(|b| b.1)
 }
 
 /// The segment of `b` whose outward normal is (nearly) `n_old` and that still holds

@@ -54,8 +54,14 @@
 //! of each step continuous (a jump from the peak to the residual surface inside the iteration
 //! would make it cycle between the two); the drop is a step late, as a brittle failure
 //! resolved by the time step. A broken contact keeps its state while it is open or out of
-//! sight ([`FrictionLaw::lasting`]) and never bonds again; a contact first detected after the
-//! analysis' first step, or not touching at the start, has no bond (it starts broken).
+//! sight ([`FrictionLaw::lasting`]) and never bonds again. A contact first detected after the
+//! analysis' first step, or not touching at the start, never had a bond ([`Bond::Never`]):
+//! it has the residual friction from the start (the joint's surface where it was not
+//! bonded), and is not counted as broken.
+//!
+//! While its bond holds, a contact is kept by the detection even when its vertex passes the
+//! end of the other block's face by its elastic shear (`held_edge` in
+//! [`super::set`]): the bond ties the vertex to the face's end.
 
 use super::friction::{
     self, coulomb_start_forces, open_response, ContactStatus, FrictionParams, LawResponse,
@@ -74,29 +80,47 @@ pub const fn corner(s: i8) -> Branch {
     Branch::Limit(1, s)
 }
 
-/// The state of a bonded contact: its shear history and whether its bond broke.
+/// The bond of a contact.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Bond {
+    /// Bonded (the contact touched at the start of the analysis and has not failed).
+    #[default]
+    Intact,
+    /// The bond broke: residual friction, for good.
+    Broken,
+    /// The contact never had a bond (first detected later, or not touching at the start):
+    /// residual friction.
+    Never,
+}
+
+/// The state of a bonded contact: its shear history and its bond.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct BondState {
     pub shear: ShearHistory,
-    pub broken: bool,
+    pub bond: Bond,
 }
 
 impl BondState {
-    /// A contact without a bond (residual friction only).
-    pub const BROKEN: BondState = BondState {
+    /// A contact that never had a bond.
+    pub const NEVER: BondState = BondState {
         shear: ShearHistory {
             ge: 0.0,
             status: ContactStatus::Open,
             tn: 0.0,
             slide_sign: 0.0,
         },
-        broken: true,
+        bond: Bond::Never,
     };
 
-    /// Words 0–3: the shear history ([`ShearHistory::to_state`]); word 4: 1 when broken.
+    /// Words 0–3: the shear history ([`ShearHistory::to_state`]); word 4: the bond (0
+    /// intact, 1 broken, 2 never bonded).
     pub fn to_state(&self) -> LawState {
         let mut s = self.shear.to_state();
-        s.0[4] = u64::from(self.broken);
+        s.0[4] = match self.bond {
+            Bond::Intact => 0,
+            Bond::Broken => 1,
+            Bond::Never => 2,
+        };
         s
     }
 
@@ -104,8 +128,18 @@ impl BondState {
     pub fn from_state(s: &LawState) -> BondState {
         BondState {
             shear: ShearHistory::from_state(s),
-            broken: s.0[4] != 0,
+            bond: match s.0[4] {
+                0 => Bond::Intact,
+                1 => Bond::Broken,
+                _ => Bond::Never,
+            },
         }
+    }
+
+    /// Residual friction only (broken, or never bonded).
+    #[inline]
+    pub fn residual(&self) -> bool {
+        self.bond != Bond::Intact
     }
 }
 
@@ -216,7 +250,7 @@ pub fn intact_on_branch(
 
 /// The bonded law at (g_N, Δg_S) from the committed state `h` (see the module docs).
 pub fn bonded(p: &FrictionParams, h: &BondState, gn: f64, dgs: f64) -> LawResponse {
-    if h.broken {
+    if h.residual() {
         return friction::return_mapping(&residual(p), &h.shear, gn, dgs);
     }
     intact_on_branch(p, &h.shear, gn, dgs, intact_branch(p, &h.shear, gn, dgs))
@@ -225,15 +259,19 @@ pub fn bonded(p: &FrictionParams, h: &BondState, gn: f64, dgs: f64) -> LawRespon
 /// The state kept once the step has converged with response `r`: an intact contact on a
 /// yield branch (plastic slip or opening) breaks (see the module docs).
 pub fn commit(p: &FrictionParams, h: &BondState, r: &LawResponse) -> BondState {
-    if h.broken {
+    if h.residual() {
         return BondState {
             shear: friction::commit_return_mapping(&residual(p), &h.shear, r),
-            broken: true,
+            bond: h.bond,
         };
     }
     BondState {
         shear: friction::commit_return_mapping(p, &h.shear, r),
-        broken: r.status == ContactStatus::Slide || r.opening > 0.0,
+        bond: if r.status == ContactStatus::Slide || r.opening > 0.0 {
+            Bond::Broken
+        } else {
+            Bond::Intact
+        },
     }
 }
 
@@ -260,7 +298,8 @@ impl FrictionLaw for Bonded {
     ) -> Result<Vec<f64>, (usize, String)> {
         let _ = cohesion;
         let t = given.first().copied().flatten().unwrap_or(0.0);
-        if !(t >= 0.0) {
+        // a NaN is refused too (numbers are finite when the model reader gives them)
+        if t.is_nan() || t < 0.0 {
             return Err((0, format!("must be zero or positive (Pa), got {t}")));
         }
         let phi_r = given.get(1).copied().flatten().unwrap_or(friction_angle);
@@ -289,7 +328,7 @@ impl FrictionLaw for Bonded {
         let t = values[0];
         (tan_phi > 0.0 && t > cohesion / tan_phi).then(|| {
             format!(
-                "tensile_strength {t} Pa is above the apex c / tan φ = {} Pa of the Mohr–Coulomb \
+                "tensile_strength {t} Pa is above the apex c / tan φ = {:.0} Pa of the Mohr–Coulomb \
                  line: the bond carries at most that tension (set cohesion ≥ T tan φ for more)",
                 cohesion / tan_phi
             )
@@ -300,18 +339,18 @@ impl FrictionLaw for Bonded {
         [values[0] * weight, values[1].to_radians().tan(), 0.0, 0.0]
     }
 
-    /// Bonded if it touches at the start of the analysis; otherwise no bond.
+    /// Bonded if it touches at the start of the analysis; otherwise never bonded.
     fn new_state(&self, touching: bool, at_start: bool) -> LawState {
         if touching && at_start {
             BondState::default().to_state()
         } else {
-            BondState::BROKEN.to_state()
+            BondState::NEVER.to_state()
         }
     }
 
     fn branch(&self, p: &FrictionParams, h: &LawState, gn: f64, dgs: f64) -> Branch {
         let h = BondState::from_state(h);
-        if h.broken {
+        if h.residual() {
             ReturnMapping::branch_of(&residual(p), &h.shear, gn, dgs)
         } else {
             intact_branch(p, &h.shear, gn, dgs)
@@ -327,7 +366,7 @@ impl FrictionLaw for Bonded {
         branch: Branch,
     ) -> LawResponse {
         let h = BondState::from_state(h);
-        if h.broken {
+        if h.residual() {
             ReturnMapping::on_branch_of(&residual(p), &h.shear, gn, dgs, branch)
         } else {
             intact_on_branch(p, &h.shear, gn, dgs, branch)
@@ -346,7 +385,7 @@ impl FrictionLaw for Bonded {
         ctx: IterationContext,
     ) -> Branch {
         let h = BondState::from_state(h);
-        if h.broken {
+        if h.residual() {
             return ReturnMapping::iteration_branch_of(&residual(p), &h.shear, gn, dgs, ctx);
         }
         let own = intact_branch(p, &h.shear, gn, dgs);
@@ -361,13 +400,15 @@ impl FrictionLaw for Bonded {
         commit(p, &BondState::from_state(h), r).to_state()
     }
 
+    /// A broken bond is kept (a contact that never had one needs nothing kept: a contact
+    /// detected anew has none).
     fn lasting(&self, h: &LawState) -> bool {
-        BondState::from_state(h).broken
+        BondState::from_state(h).bond == Bond::Broken
     }
 
     fn start_forces(&self, p: &FrictionParams, h: &LawState, gn0: f64) -> (f64, f64) {
         let h = BondState::from_state(h);
-        if h.broken {
+        if h.residual() {
             coulomb_start_forces(p, &h.shear, gn0)
         } else {
             (p.pn * gn0, p.ps * h.shear.ge)
@@ -375,7 +416,11 @@ impl FrictionLaw for Bonded {
     }
 
     fn bond(&self, h: &LawState) -> Option<bool> {
-        Some(!BondState::from_state(h).broken)
+        match BondState::from_state(h).bond {
+            Bond::Intact => Some(true),
+            Bond::Broken => Some(false),
+            Bond::Never => None,
+        }
     }
 
     fn has_bonds(&self) -> bool {
@@ -383,6 +428,6 @@ impl FrictionLaw for Bonded {
     }
 
     fn valid_state(&self, h: &LawState) -> bool {
-        ShearHistory::is_encoded(h) && h.0[4] <= 1
+        ShearHistory::is_encoded(h) && h.0[4] <= 2
     }
 }

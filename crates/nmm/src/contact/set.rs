@@ -1085,13 +1085,15 @@ impl ContactSet {
         }
     }
 
-    /// Bonds of the contacts under a law with bonds: (intact among the contacts of the last
-    /// step, broken so far, whether detected in the last step or not).
+    /// Bonds of the contacts under a law with bonds, as committed: (intact, among the
+    /// contacts of the last step — an intact bond is never open —, and broken so far,
+    /// whether detected in the last step or not). Contacts that never had a bond are in
+    /// neither count.
     pub fn bond_counts(&self) -> (usize, usize) {
         let intact = self
-            .contacts
-            .iter()
-            .filter(|c| c.law.law().bond(&c.history) == Some(true))
+            .committed
+            .values()
+            .filter(|(l, h, _)| l.law().bond(h) == Some(true))
             .count();
         let broken = self
             .lasting

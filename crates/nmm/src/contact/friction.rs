@@ -9,7 +9,8 @@
 //! # Sign conventions and symbols
 //! * `g_N` (`gn`): signed normal gap; **negative = penetration**.
 //! * `t_N` (`tn`): normal force, `t_N = p_N g_N` if `g_N < 0`, else `0`.
-//!   Hence `t_N ≤ 0` always (compression); there is never a tensile normal force.
+//!   Hence `t_N ≤ 0` always (compression); these laws never pull (the bonded law of
+//!   [`super::bonded`] does, while its bond holds).
 //! * `Δg_S` (`dgs`): shear displacement increment of the current step (relative
 //!   tangential motion since the last converged state).
 //! * `g_S^e` (`ge`): elastic shear gap; `t_S = p_S g_S^e` (`ts`).

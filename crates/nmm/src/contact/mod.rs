@@ -14,8 +14,8 @@
 //! * [`generate`]: seeded geometry generators for benchmarks and tests.
 //!
 //! Sign conventions shared by all parts: `g_N < 0` is penetration,
-//! `t_N = p_N g_N ≤ 0` is compression, normals point out of the block that owns
-//! the segment. The kinematics on the NMM covers and the contact set carried
+//! `t_N = p_N g_N ≤ 0` is compression (`t_N > 0`, tension, only on a bonded
+//! contact, [`bonded`]), normals point out of the block that owns the segment. The kinematics on the NMM covers and the contact set carried
 //! over Newton iterations are built on top of these parts.
 
 pub mod bonded;

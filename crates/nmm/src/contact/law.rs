@@ -222,7 +222,7 @@ pub trait FrictionLaw: Send + Sync {
 
 /// Every law, in a fixed order (a [`LawId`] is an index): the one registry. Adding a law
 /// is one line here (see the module docs).
-pub static LAWS: [&dyn FrictionLaw; 3] = [
+pub static LAWS: &[&dyn FrictionLaw] = &[
     &super::friction::ReturnMapping,
     &super::friction::Conventional,
     &super::bonded::Bonded,

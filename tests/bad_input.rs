@@ -803,3 +803,136 @@ fn bonded_interface_values() {
         "{out}"
     );
 }
+
+/// A bolt from the slider to the base (accepted), and its bad-input lines.
+const BOLT: &str = "\n[[bolt]]\nname = \"b1\"\npoints = [[0.5, 1.25], [0.5, 0.5]]\nstiffness = 1.0e8\ncapacity = 2.0e5\n";
+
+/// The example with a bolt whose `from` is replaced by `to` (which must occur in BOLT),
+/// and `extra` after it.
+fn bolted(from: &str, to: &str, extra: &str) -> String {
+    assert!(BOLT.contains(from), "{from:?} is not in BOLT");
+    format!("{EXAMPLE}{}{extra}", BOLT.replacen(from, to, 1))
+}
+
+#[test]
+fn the_bolted_example_is_accepted() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("model.toml");
+    let stage = "\n[[stage]]\nname = \"support\"\n";
+    let text = bolted(
+        "capacity = 2.0e5",
+        "capacity = 2.0e5\npretension = 2.0e5\nstage = \"support\"",
+        &format!("{stage}\n[[monitor]]\nname = \"b\"\nbolt = \"b1\"\n"),
+    );
+    std::fs::write(&path, text).unwrap();
+    let (ok, stdout, stderr) = check(&path);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("blocks: 3"), "{stdout}");
+}
+
+/// Every bad `[[bolt]]` (and a monitor of a bolt that does not exist): one line naming the
+/// bolt, the key, the reason and the file and line.
+#[test]
+fn bolt_errors() {
+    let stages = "\n[[stage]]\nname = \"settle\"\n[[stage]]\nname = \"shake\"\n";
+    let cases: Vec<(String, &str, Vec<&str>)> = vec![
+        (
+            bolted("capacity = 2.0e5", "capacity = 2.0e5\nstage = \"support\"", ""),
+            "stage = \"support\"",
+            vec!["[[bolt]] \"b1\"", "key `stage`", "unknown stage \"support\" (the model has no [[stage]])"],
+        ),
+        (
+            bolted("capacity = 2.0e5", "capacity = 2.0e5\nstage = \"support\"", stages),
+            "stage = \"support\"",
+            vec!["[[bolt]] \"b1\"", "key `stage`", "unknown stage \"support\" (stages: \"settle\", \"shake\")"],
+        ),
+        (
+            bolted("[0.5, 0.5]]", "[3.0, 0.5]]", ""),
+            "points = ",
+            vec!["[[bolt]] \"b1\"", "key `points`", "point 2 [3,0.5] is not inside any block"],
+        ),
+        (
+            bolted("[[0.5, 1.25]", "[[-0.5, 1.25]", ""),
+            "points = ",
+            vec!["[[bolt]] \"b1\"", "key `points`", "point 1 [-0.5,1.25] is not inside any block"],
+        ),
+        (
+            format!("{EXAMPLE}{BOLT}{BOLT}"),
+            "name = \"b1\"\npoints = [[0.5, 1.25], [0.5, 0.5]]\nstiffness = 1.0e8\ncapacity = 2.0e5\n\n[[bolt]]\nname",
+            vec!["[[bolt]] \"b1\"", "key `name`", "duplicate bolt name (also [[bolt]] #1)"],
+        ),
+        (
+            bolted("stiffness = 1.0e8", "stiffness = 0.0", ""),
+            "stiffness = 0.0",
+            vec!["[[bolt]] \"b1\"", "key `stiffness`", "must be positive, got 0"],
+        ),
+        (
+            bolted("stiffness = 1.0e8", "stiffness = -1.0e8", ""),
+            "stiffness = -1.0e8",
+            vec!["[[bolt]] \"b1\"", "key `stiffness`", "must be positive, got -100000000"],
+        ),
+        (
+            bolted("capacity = 2.0e5", "capacity = 0", ""),
+            "capacity = 0",
+            vec!["[[bolt]] \"b1\"", "key `capacity`", "must be positive, got 0"],
+        ),
+        (
+            bolted("capacity = 2.0e5", "capacity = -5.0", ""),
+            "capacity = -5.0",
+            vec!["[[bolt]] \"b1\"", "key `capacity`", "must be positive, got -5"],
+        ),
+        (
+            bolted("capacity = 2.0e5", "capacity = 2.0e5\npretension = 3.0e5", ""),
+            "pretension = 3.0e5",
+            vec!["[[bolt]] \"b1\"", "key `pretension`", "300000 is above the capacity 200000"],
+        ),
+        (
+            bolted("capacity = 2.0e5", "capacity = 2.0e5\npretension = -1.0", ""),
+            "pretension = -1.0",
+            vec!["[[bolt]] \"b1\"", "key `pretension`", "must be zero or positive"],
+        ),
+        (
+            bolted("[[0.5, 1.25], [0.5, 0.5]]", "[[0.5, 1.25]]", ""),
+            "points = ",
+            vec!["[[bolt]] \"b1\"", "key `points`", "expected its two anchors [[x1, y1], [x2, y2]], got 1 items"],
+        ),
+        (
+            bolted("[0.5, 0.5]]", "[0.5, 1.25]]", ""),
+            "points = ",
+            vec!["[[bolt]] \"b1\"", "key `points`", "the two anchors coincide at [0.5,1.25]"],
+        ),
+        (
+            bolted("stiffness = 1.0e8", "stiffness = \"stiff\"", ""),
+            "stiffness = \"stiff\"",
+            vec!["[[bolt]] \"b1\"", "key `stiffness`", "expected a number, got string \"stiff\""],
+        ),
+        (
+            bolted("capacity = 2.0e5", "capacity = 2.0e5\nyield = 1.0", ""),
+            "yield = 1.0",
+            vec!["[[bolt]] \"b1\"", "unknown key `yield`"],
+        ),
+        (
+            bolted("", "", "\n[[monitor]]\nname = \"b\"\nbolt = \"b2\"\n"),
+            "bolt = \"b2\"",
+            vec!["[[monitor]] \"b\"", "key `bolt`", "unknown bolt \"b2\""],
+        ),
+        (
+            bolted("", "", "\n[[monitor]]\nname = \"b\"\nbolt = \"b1\"\npoint = [0.5, 0.5]\n"),
+            "bolt = \"b1\"",
+            vec!["[[monitor]] \"b\"", "key `bolt`", "not several"],
+        ),
+    ];
+    for (text, line_of, expect) in cases {
+        let mut expect = expect.clone();
+        let at = if line_of == "name = \"b1\"\npoints = [[0.5, 1.25], [0.5, 0.5]]\nstiffness = 1.0e8\ncapacity = 2.0e5\n\n[[bolt]]\nname" {
+            // the second table's name
+            let first = text.find(line_of).unwrap();
+            let second = first + line_of.len() - "name".len();
+            format!("model.toml, line {})", text[..second].matches('\n').count() + 1)
+        } else {
+            at_line(&text, line_of)
+        };
+        expect.push(&at);
+        assert_rejected(expect[2], &text, &expect);
+    }
+}

@@ -242,7 +242,14 @@ fn check_invariants(m: &Model) {
                 assert!(first.iter().chain(second.iter()).all(|&x| x < nb));
                 assert!(first.iter().all(|x| !second.contains(x)));
             }
+            MonitorKind::Bolt { bolt } => assert!(*bolt < m.bolts.len()),
         }
+    }
+    for b in &m.bolts {
+        assert!(b.blocks.iter().all(|&x| x < nb));
+        assert!(b.stiffness > 0.0 && b.capacity > 0.0);
+        assert!((0.0..=b.capacity).contains(&b.pretension));
+        assert!(b.stage.is_none_or(|s| s < m.stages.len()));
     }
 }
 

@@ -583,3 +583,98 @@ fn a_real_run_writes_the_documented_signs_and_stress() {
         "τxy {txy} vs {want_txy}"
     );
 }
+
+/// The bolts' frames (docs/outputs.md, `bolts.pvd`): a block on a fixed base under gravity
+/// tilted 30°, φ = 20°, held by a bolt (k = 1e5 N/m) from the block to an abutment of the
+/// base, static, 3 steps. `bolts.pvd` lists the frames `blocks.pvd` does (same times,
+/// `vtk/bolts_NNNNNN.vtu`); each is one VTK_LINE cell (type 3) between the anchors — at
+/// step 0 the points as written, at the end the block's anchor moved along the bolt by the
+/// elongation — with `force`, `elongation`, `plastic_elongation`, `installed`, `yielded`,
+/// `bolt` and the `bolt_names` field data, and the force is history.csv's `b1.force`.
+#[test]
+fn bolts_frames_are_line_cells_with_their_forces() {
+    let (s, c) = 30f64.to_radians().sin_cos();
+    let model = format!(
+        "[analysis]\nmode = \"static\"\ndt = 0.01\nsteps = 3\noutput_every = 3\ngravity = [{}, {}]\n\
+         [cover]\nsize = 0.0625\n\
+         [[material]]\nname = \"rock\"\ndensity = 2000.0\nyoung = 1.0e9\npoisson = 0.25\n\
+         [[block]]\nname = \"base\"\nmaterial = \"rock\"\nfixed = true\n\
+         vertices = [[0.0, 0.0], [3.0, 0.0], [3.0, 0.5], [0.3, 0.5], [0.3, 0.75], [0.0, 0.75]]\n\
+         [[block]]\nname = \"slider\"\nmaterial = \"rock\"\nvertices = [[0.5, 0.5], [1.0, 0.5], [1.0, 0.75], [0.5, 0.75]]\n\
+         [[interface]]\nfriction_angle = 20.0\nnormal_penalty = 1.0e9\nshear_penalty = 1.0e9\n\
+         [[bolt]]\nname = \"b1\"\npoints = [[0.6, 0.625], [0.15, 0.625]]\nstiffness = 1.0e5\ncapacity = 1.0e4\n\
+         [[monitor]]\nname = \"b1\"\nbolt = \"b1\"\n",
+        9.81 * s,
+        -9.81 * c
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("m.toml");
+    std::fs::write(&path, model).unwrap();
+    let out = dir.path().join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_nmm"))
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bolts = frames(&out.join("bolts.pvd"));
+    let blocks = frames(&out.join("blocks.pvd"));
+    assert_eq!(bolts.len(), 2);
+    for (b, k) in bolts.iter().zip(&blocks) {
+        assert_eq!(b.0, k.0);
+        assert_eq!(b.1, k.1.replace("blocks_", "bolts_"));
+    }
+    let hist = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    assert!(hist.starts_with("step,time,b1.force,b1.elongation,iterations\n"));
+    let last: Vec<f64> = hist
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    for (k, (_, file)) in bolts.iter().enumerate() {
+        let root = parse(&out.join(file));
+        let piece = root.child("UnstructuredGrid").child("Piece");
+        assert_eq!(piece.attr("NumberOfCells"), "1");
+        assert_eq!(piece.attr("NumberOfPoints"), "2");
+        let cells = piece.child("Cells");
+        assert_eq!(i64s(cells.array("connectivity")), [0, 1]);
+        assert_eq!(i64s(cells.array("offsets")), [2]);
+        let types = decode(cells.array("types"));
+        assert_eq!(types, [3u8], "VTK_LINE");
+        let pts = f64s(piece.child("Points").array("Points"));
+        let cd = piece.child("CellData");
+        let force = f64s(cd.array("force"))[0];
+        let elongation = f64s(cd.array("elongation"))[0];
+        assert_eq!(f64s(cd.array("plastic_elongation")), [0.0]);
+        assert_eq!(i32s(cd.array("installed")), [1]);
+        assert_eq!(i32s(cd.array("yielded")), [0]);
+        assert_eq!(i32s(cd.array("bolt")), [0]);
+        let names = decode(
+            root.child("UnstructuredGrid")
+                .child("FieldData")
+                .array("bolt_names"),
+        );
+        assert_eq!(names, b"b1\0");
+        if k == 0 {
+            assert_eq!(pts, [0.6, 0.625, 0.0, 0.15, 0.625, 0.0]);
+            assert_eq!((force, elongation), (0.0, 0.0));
+        } else {
+            // the history's figures (written as shortest round-trip decimals)
+            assert_eq!((force, elongation), (last[2], last[3]));
+            assert!(force > 400.0, "{force}");
+            // the block's anchor moved down the slope (+x) by the elongation, the base's not
+            assert!(
+                (pts[0] - 0.6 - elongation).abs() < 1e-3 * elongation,
+                "{pts:?}"
+            );
+            assert_eq!(&pts[3..5], [0.15, 0.625]);
+        }
+    }
+}

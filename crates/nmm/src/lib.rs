@@ -9,9 +9,11 @@
 //! See `ARCHITECTURE.md` for the map of the tree.
 
 pub mod assembly;
+pub mod bolt;
 pub mod check;
 pub mod contact;
 pub mod cover;
+pub mod fracture;
 pub mod generate;
 pub mod geometry;
 pub mod material;

@@ -6,11 +6,13 @@
 //!   joint id, listed in the legend), cracks in red, loads as arrows (edge loads at the
 //!   middle of their segment), constraints in magenta (edges as thick lines, points as
 //!   squares), point monitors as circles with their names, and the manifold elements of the
-//!   cover when a discretisation is given (`--mesh`).
+//!   cover when a discretisation is given (`--mesh`), rock bolts as dark blue lines between
+//!   their anchors.
 //! * [`frame_scene`]: one frame of a run's `blocks.pvd` (the deformed manifold elements
 //!   filled by a field, block outlines, a colour bar with the unit) and the contacts of the
-//!   same step from `contacts.pvd` (grey open, green stick, red slide); the title names the
-//!   run, the step, the time and the field.
+//!   same step from `contacts.pvd` (grey open, green stick, red slide) and the installed
+//!   bolts of that step from `bolts.pvd` (dark blue, orange when yielded); the title names
+//!   the run, the step, the time and the field.
 
 use crate::cover::Discretisation;
 use crate::model::{ConstraintGeometry, LoadKind, Model, MonitorKind};
@@ -18,6 +20,10 @@ use crate::output::plot::{colour_map, MarkerShape, Rgb, Scene, SceneMarker, Scen
 use crate::output::vtk::{read_pvd, read_vtu, ReadGrid};
 use std::collections::HashMap;
 use std::path::Path;
+
+/// Rock bolts: installed (and as drawn), yielded.
+const BOLT: Rgb = (23, 55, 94);
+const BOLT_YIELDED: Rgb = (255, 127, 14);
 
 /// Joint colours (Tableau 10 without red, which marks cracks and sliding contacts).
 const JOINTS: [Rgb; 9] = [
@@ -170,6 +176,12 @@ pub fn model_scene(model: &Model, mesh: Option<&Discretisation>, title: &str) ->
     if !model.constraints.is_empty() {
         s.legend.push(("constraint".into(), MAGENTA));
     }
+    for b in &model.bolts {
+        s.lines.push((xy(&b.points), BOLT, 3));
+    }
+    if !model.bolts.is_empty() {
+        s.legend.push(("bolt".into(), BOLT));
+    }
     let label_size = if model.blocks.len() > 60 { 9 } else { 12 };
     for b in &model.blocks {
         s.labels
@@ -310,6 +322,37 @@ pub fn read_frame(dir: &Path, index: usize) -> Result<RunFrame, String> {
         blocks,
         contacts,
     })
+}
+
+/// The installed bolts of step `step` from the run's `bolts.pvd` (if it lists that step) as
+/// lines of `s`: dark blue, orange when yielded.
+fn bolt_lines(dir: &Path, step: Option<usize>, s: &mut Scene) -> Result<(), String> {
+    let (Some(step), Ok(listed)) = (step, read_pvd(&dir.join("bolts.pvd"))) else {
+        return Ok(());
+    };
+    let Some((_, file)) = listed.iter().find(|(_, f)| step_of(f) == Some(step)) else {
+        return Ok(());
+    };
+    let g = read_vtu(&dir.join(file))?;
+    let column = |name: &str| g.cell_data.get(name).map(|(_, v)| v.clone());
+    let (installed, yielded) = (column("installed"), column("yielded"));
+    let mut seen = [false; 2];
+    for (i, cell) in g.cells.iter().enumerate() {
+        if installed.as_ref().is_some_and(|v| v[i] == 0.0) || cell.len() != 2 {
+            continue;
+        }
+        let y = usize::from(yielded.as_ref().is_some_and(|v| v[i] != 0.0));
+        seen[y] = true;
+        let (a, b) = (g.points[cell[0]], g.points[cell[1]]);
+        s.lines
+            .push((vec![(a[0], a[1]), (b[0], b[1])], [BOLT, BOLT_YIELDED][y], 3));
+    }
+    for (k, name) in ["bolt", "bolt yielded"].iter().enumerate() {
+        if seen[k] {
+            s.legend.push((name.to_string(), [BOLT, BOLT_YIELDED][k]));
+        }
+    }
+    Ok(())
 }
 
 /// The value of `field` per cell of a blocks frame: `u` the mean of the cell's vertex
@@ -561,6 +604,7 @@ pub fn frame_scene_in(
             }
         }
     }
+    bolt_lines(dir, frame.step, &mut s)?;
     Ok((s, own))
 }
 

@@ -43,6 +43,7 @@
 //! 0 when inside or on its boundary), and each segment gets the element nearest to its
 //! midpoint; because of the merging, a segment lies in its element up to `EDGE_TOL`.
 
+use super::crack::{subtract_intervals, CoverCrack, Cracks};
 use super::{
     barycentric, BlockBoundary, BoundaryVertex, CoverBasis, Discretisation, ManifoldElement,
     MaterialPoint, MathMesh, PhysicalCover,
@@ -87,6 +88,18 @@ pub fn discretise_with(
     origin: Option<Vec2>,
     basis: CoverBasis,
 ) -> Result<Discretisation, DiscretiseError> {
+    discretise_cracked(blocks, &[], h, origin, basis)
+}
+
+/// As [`discretise_with`], the covers split by `cracks` (traces ending inside their
+/// blocks, [`super::crack`]).
+pub fn discretise_cracked(
+    blocks: &[(Vec<Vec2>, bool)],
+    cracks: &[CoverCrack],
+    h: f64,
+    origin: Option<Vec2>,
+    basis: CoverBasis,
+) -> Result<Discretisation, DiscretiseError> {
     if !(h.is_finite() && h > 0.0) {
         return Err(DiscretiseError(format!(
             "mesh size h = {h} must be finite and positive"
@@ -106,7 +119,7 @@ pub fn discretise_with(
             "mesh size h = {h} gives too many nodes for the model box (limit {MAX_MESH_NODES})"
         ))
     })?;
-    discretise_on_mesh_with(blocks, mesh, basis)
+    discretise_on_mesh_cracked(blocks, cracks, mesh, basis)
 }
 
 /// Discretise blocks on a given mathematical mesh (every block strictly inside the
@@ -121,6 +134,16 @@ pub fn discretise_on_mesh(
 /// As [`discretise_on_mesh`], with the cover functions `basis`.
 pub fn discretise_on_mesh_with(
     blocks: &[(Vec<Vec2>, bool)],
+    mesh: MathMesh,
+    basis: CoverBasis,
+) -> Result<Discretisation, DiscretiseError> {
+    discretise_on_mesh_cracked(blocks, &[], mesh, basis)
+}
+
+/// As [`discretise_on_mesh_with`], the covers split by `cracks` ([`super::crack`]).
+pub fn discretise_on_mesh_cracked(
+    blocks: &[(Vec<Vec2>, bool)],
+    cracks: &[CoverCrack],
     mesh: MathMesh,
     basis: CoverBasis,
 ) -> Result<Discretisation, DiscretiseError> {
@@ -149,9 +172,13 @@ pub fn discretise_on_mesh_with(
         boundaries: Vec::with_capacity(blocks.len()),
         n_dofs: 0,
         basis,
+        cracks: cracks.to_vec(),
     };
+    for c in cracks {
+        validate_crack(c, blocks.len())?;
+    }
     for (b, (poly, _)) in blocks.iter().enumerate() {
-        build_block(&mut d, &clipper, b, poly)?;
+        build_block(&mut d, &clipper, b, poly, &Cracks::of_block(cracks, b))?;
     }
     if basis != CoverBasis::Constant {
         for bd in &mut d.boundaries {
@@ -213,6 +240,23 @@ fn with_midpoints(elements: &[ManifoldElement], bd: &BlockBoundary) -> BlockBoun
         }
     }
     out
+}
+
+/// Checks that a crack names a block and has finite points.
+fn validate_crack(c: &CoverCrack, n_blocks: usize) -> Result<(), DiscretiseError> {
+    if c.block >= n_blocks {
+        return Err(DiscretiseError(format!(
+            "a crack names block {} of {n_blocks}",
+            c.block
+        )));
+    }
+    if c.points.len() < 2 || c.points.iter().flatten().any(|v| !v.is_finite()) {
+        return Err(DiscretiseError(format!(
+            "a crack of block {} has fewer than 2 points or a non-finite point",
+            c.block
+        )));
+    }
+    Ok(())
 }
 
 /// Checks that a block is a CCW simple polygon with finite coordinates.
@@ -331,52 +375,20 @@ impl TriMap {
     }
 }
 
-struct UnionFind(Vec<u32>);
-impl UnionFind {
-    fn new(n: usize) -> Self {
-        UnionFind((0..n as u32).collect())
-    }
-    fn find(&mut self, mut x: u32) -> u32 {
-        while self.0[x as usize] != x {
-            let p = self.0[x as usize];
-            self.0[x as usize] = self.0[p as usize];
-            x = p;
-        }
-        x
-    }
-    fn union(&mut self, a: u32, b: u32) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
-            self.0[hi as usize] = lo;
-        }
-    }
+/// The squares `i0..=i1 × j0..=j1` of one block.
+struct SquareRange {
+    i0: usize,
+    i1: usize,
+    j0: usize,
+    j1: usize,
 }
 
-fn build_block(
-    d: &mut Discretisation,
-    clipper: &Clipper,
-    b: usize,
-    poly: &[Vec2],
-) -> Result<(), DiscretiseError> {
-    let mesh = d.mesh.clone();
-    let h = mesh.h;
-    let bbox = Aabb::of_points(poly).inflate(EDGE_TOL * h);
-    let (i0, i1, j0, j1) = mesh
-        .square_range(&bbox)
-        .ok_or_else(|| DiscretiseError(format!("block {b} misses the mesh")))?;
-    let (w, hgt) = (i1 - i0 + 1, j1 - j0 + 1);
-    let n = poly.len();
-    // Grid coordinates of the block vertices.
-    let g: Vec<Vec2> = poly
-        .iter()
-        .map(|p| [(p[0] - mesh.origin[0]) / h, (p[1] - mesh.origin[1]) / h])
-        .collect();
-
-    // 1. Rasterise the edges.
-    let mut marked = vec![false; w * hgt];
-    for k in 0..n {
-        let (p, q) = (g[k], g[(k + 1) % n]);
+impl SquareRange {
+    /// Marks the squares that the segment p→q (grid coordinates) passes within
+    /// `EDGE_TOL` of (`marked` is row-major over the range).
+    fn rasterise(&self, p: Vec2, q: Vec2, marked: &mut [bool]) {
+        let SquareRange { i0, i1, j0, j1 } = *self;
+        let w = i1 - i0 + 1;
         let (vlo, vhi) = (p[1].min(q[1]) - EDGE_TOL, p[1].max(q[1]) + EDGE_TOL);
         let jlo = ((vlo - 1.0).ceil().max(j0 as f64) as usize).max(j0);
         let jhi = (vhi.floor().max(0.0) as usize).min(j1);
@@ -405,6 +417,68 @@ fn build_block(
             for i in ilo..=ihi {
                 marked[(j - j0) * w + (i - i0)] = true;
             }
+        }
+    }
+}
+
+struct UnionFind(Vec<u32>);
+impl UnionFind {
+    fn new(n: usize) -> Self {
+        UnionFind((0..n as u32).collect())
+    }
+    fn find(&mut self, mut x: u32) -> u32 {
+        while self.0[x as usize] != x {
+            let p = self.0[x as usize];
+            self.0[x as usize] = self.0[p as usize];
+            x = p;
+        }
+        x
+    }
+    fn union(&mut self, a: u32, b: u32) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra != rb {
+            let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
+            self.0[hi as usize] = lo;
+        }
+    }
+}
+
+fn build_block(
+    d: &mut Discretisation,
+    clipper: &Clipper,
+    b: usize,
+    poly: &[Vec2],
+    cracks: &Cracks,
+) -> Result<(), DiscretiseError> {
+    let mesh = d.mesh.clone();
+    let h = mesh.h;
+    let bbox = Aabb::of_points(poly).inflate(EDGE_TOL * h);
+    let (i0, i1, j0, j1) = mesh
+        .square_range(&bbox)
+        .ok_or_else(|| DiscretiseError(format!("block {b} misses the mesh")))?;
+    let (w, hgt) = (i1 - i0 + 1, j1 - j0 + 1);
+    let n = poly.len();
+    // Grid coordinates of the block vertices.
+    let g: Vec<Vec2> = poly
+        .iter()
+        .map(|p| [(p[0] - mesh.origin[0]) / h, (p[1] - mesh.origin[1]) / h])
+        .collect();
+
+    // 1. Rasterise the edges (and the cracks: their squares are cut by them).
+    let range = SquareRange { i0, i1, j0, j1 };
+    let mut marked = vec![false; w * hgt];
+    for k in 0..n {
+        range.rasterise(g[k], g[(k + 1) % n], &mut marked);
+    }
+    let mut crack_marked = Vec::new();
+    if !cracks.is_empty() {
+        crack_marked = vec![false; w * hgt];
+        let grid = |p: Vec2| [(p[0] - mesh.origin[0]) / h, (p[1] - mesh.origin[1]) / h];
+        for &(p, q) in cracks.segments() {
+            range.rasterise(grid(p), grid(q), &mut crack_marked);
+        }
+        for (m, &c) in marked.iter_mut().zip(&crack_marked) {
+            *m |= c;
         }
     }
 
@@ -440,6 +514,7 @@ fn build_block(
                 ptr += 1;
             }
             let is_marked = marked[(j - j0) * w + (i - i0)];
+            let is_cracked = !crack_marked.is_empty() && crack_marked[(j - j0) * w + (i - i0)];
             if !is_marked && ptr % 2 == 0 {
                 continue; // outside
             }
@@ -457,6 +532,19 @@ fn build_block(
                 let pieces = clipper
                     .clip_polygon_by_triangle(poly, &tri)
                     .map_err(|e| DiscretiseError(format!("block {b}: {e}")))?;
+                let pieces = if is_cracked {
+                    let mut split = Vec::new();
+                    for piece in pieces {
+                        split.extend(
+                            cracks
+                                .split(piece, &tri, h)
+                                .map_err(|e| DiscretiseError(format!("block {b}: crack: {e}")))?,
+                        );
+                    }
+                    split
+                } else {
+                    pieces
+                };
                 let mut cnt = 0u16;
                 for piece in pieces {
                     if piece_width(&piece) < min_width {
@@ -464,7 +552,11 @@ fn build_block(
                         d.locate_tol = d.locate_tol.max(super::LOCATE_TOL * h + reach);
                         continue;
                     }
-                    cov.push(edge_coverage(&tri, &piece, h, &mut intervals));
+                    let mut c = edge_coverage(&tri, &piece, h, &mut intervals);
+                    if is_cracked {
+                        c = without_cracks(c, &tri, cracks, h, &mut intervals);
+                    }
+                    cov.push(c);
                     push_element(d, b, t, tri, piece);
                     cnt += 1;
                 }
@@ -603,6 +695,41 @@ fn edge_coverage(
             Cov::Full
         } else {
             Cov::Part(start as u32, cnt as u32)
+        };
+    }
+    out
+}
+
+/// The coverage `c` less the parts of the triangle's edges that a crack runs along (no
+/// connection of covers passes through a crack).
+fn without_cracks(
+    c: [Cov; 3],
+    tri: &[Vec2; 3],
+    cracks: &Cracks,
+    h: f64,
+    intervals: &mut Vec<[f64; 2]>,
+) -> [Cov; 3] {
+    let mut out = c;
+    for (k, ck) in out.iter_mut().enumerate() {
+        if matches!(ck, Cov::None) {
+            continue;
+        }
+        let holes = cracks.on_edge(tri[k], tri[(k + 1) % 3], h);
+        if holes.is_empty() {
+            continue;
+        }
+        let from: Vec<[f64; 2]> = match *ck {
+            Cov::None => Vec::new(),
+            Cov::Full => vec![[0.0, 1.0]],
+            Cov::Part(s, n) => intervals[s as usize..(s + n) as usize].to_vec(),
+        };
+        let left = subtract_intervals(&from, &holes, EDGE_TOL);
+        *ck = if left.is_empty() {
+            Cov::None
+        } else {
+            let start = intervals.len() as u32;
+            intervals.extend_from_slice(&left);
+            Cov::Part(start, left.len() as u32)
         };
     }
     out

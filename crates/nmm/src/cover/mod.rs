@@ -7,6 +7,9 @@
 //!   apart into connected pieces; each piece is a physical cover with its own unknowns.
 //! * **Manifold elements** ([`ManifoldElement`]): a mesh triangle ∩ a block, one element per
 //!   connected piece (any simple polygon, possibly non-convex).
+//! * **Cracks** ([`CoverCrack`], [`crack`]): traces ending inside a block split the elements
+//!   they cross and the covers whose stars they separate; around a tip the covers stay
+//!   connected.
 //!
 //! Weight functions are the triangle's linear shape functions (barycentric coordinates),
 //! a partition of unity; cover functions are constants (order 0: `u(x) = Σ_k w_k(x) u_k`
@@ -17,6 +20,7 @@
 
 pub mod basis;
 mod build;
+pub mod crack;
 pub mod dependence;
 mod locate;
 pub mod mesh;
@@ -24,9 +28,11 @@ pub mod stabilise;
 
 pub use basis::CoverBasis;
 pub use build::{
-    discretise, discretise_on_mesh, discretise_on_mesh_with, discretise_through, discretise_with,
-    DiscretiseError, MAX_MESH_NODES, MIN_PIECE_WIDTH,
+    discretise, discretise_cracked, discretise_on_mesh, discretise_on_mesh_cracked,
+    discretise_on_mesh_with, discretise_through, discretise_with, DiscretiseError, MAX_MESH_NODES,
+    MIN_PIECE_WIDTH,
 };
+pub use crack::CoverCrack;
 pub use locate::{ElementIndex, LOCATE_TOL};
 pub use mesh::MathMesh;
 
@@ -150,4 +156,6 @@ pub struct Discretisation {
     /// block; ≤ its width for a sliver along a mesh line, a few 1e-5 h for the tip of a
     /// block corner just across a mesh line). Point searches accept elements this close.
     pub locate_tol: f64,
+    /// The cracks that split the covers (empty for a model without cracks).
+    pub cracks: Vec<CoverCrack>,
 }

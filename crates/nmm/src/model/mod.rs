@@ -18,6 +18,7 @@
 //! A valid model that is likely to mislead (nothing holds it, lengths in mm, a normal
 //! penalty far from E) gets one-line [`warnings`], never an error.
 
+mod bolts;
 mod joints;
 mod lines;
 mod reader;

@@ -362,6 +362,8 @@ pub enum MonitorKind {
     /// A block (or every piece of a cut block): the displacement of its centroid and its
     /// mean rotation.
     Block { blocks: Vec<usize> },
+    /// A rock bolt (index into `Model::bolts`): its axial force and elongation.
+    Bolt { bolt: usize },
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -404,6 +406,30 @@ pub struct Model {
     pub min_block_area: Option<f64>,
     /// `[[stage]]` tables in file order (empty: the model is one stage, `analysis`).
     pub stages: Vec<Stage>,
+    /// `[[bolt]]` tables in file order (the last field: see
+    /// `simulation::checkpoint::model_fingerprint`).
+    pub bolts: Vec<Bolt>,
+}
+
+/// A `[[bolt]]`: an elastic–perfectly plastic axial member between two material points
+/// ([`crate::bolt`] has its law). Forces per metre of thickness, like every force of the
+/// model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bolt {
+    pub name: String,
+    /// Its two anchors as written (initial positions).
+    pub points: [Vec2; 2],
+    /// The block of each anchor (index into `Model::blocks`: the first that holds it).
+    pub blocks: [usize; 2],
+    /// Axial stiffness k, N/m (> 0).
+    pub stiffness: f64,
+    /// Yield force F_y, N (> 0), in tension and in compression.
+    pub capacity: f64,
+    /// The force at installation, N (0 ≤ N₀ ≤ F_y).
+    pub pretension: f64,
+    /// The stage at whose start it is installed (index into `Model::stages`); `None`: from
+    /// the start of the analysis.
+    pub stage: Option<usize>,
 }
 
 /// One `[[stage]]`: a part of the analysis with its own keys (those it does not set come

@@ -46,6 +46,7 @@ const TOP_KEYS: &[&str] = &[
     "joint_set",
     "joint",
     "stage",
+    "bolt",
 ];
 
 /// What the names of blocks in the model file stand for after cutting.
@@ -121,7 +122,8 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
     let loads = loads(root, &blocks, &names, tol)?;
     let constraints = constraints(root, &blocks, &names, tol)?;
     let base_motion = base_motion(root, base_dir)?;
-    let monitors = monitors(root, &blocks, &names, tol)?;
+    let bolts = super::bolts::bolts(root, &blocks, &stages, tol)?;
+    let monitors = monitors(root, &blocks, &names, tol, &bolts)?;
     Ok(Model {
         analysis,
         cover_size: cov.size,
@@ -141,6 +143,7 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
         kept_small: cutting.kept_small,
         min_block_area: cov.min_block_area,
         stages,
+        bolts,
     })
 }
 
@@ -1389,31 +1392,45 @@ fn check_samples(s: &[[f64; 3]]) -> Result<(), String> {
     Ok(())
 }
 
-fn monitors(root: &Doc, blocks: &[Block], names: &Names, tol: f64) -> R<Vec<Monitor>> {
+fn monitors(
+    root: &Doc,
+    blocks: &[Block],
+    names: &Names,
+    tol: f64,
+    bolts: &[Bolt],
+) -> R<Vec<Monitor>> {
     let mut out: Vec<Monitor> = Vec::new();
     let mut seen: HashSet<String> = HashSet::new();
     for (k, t) in array_of_tables(root, "monitor")?.into_iter().enumerate() {
         let mut f = root.fields(format!("[[monitor]] #{}", k + 1), t, "monitor", Some(k));
         let name = f.name("name")?;
         f.set_place(format!("[[monitor]] {name:?}"));
-        f.deny_unknown(&["name", "point", "interface", "block"])?;
+        f.deny_unknown(&["name", "point", "interface", "block", "bolt"])?;
         if name.chars().any(|c| c == ',' || c == '"' || c.is_control()) {
             return Err(f.err("name", "must not contain commas, quotes or control characters (it heads history.csv columns)"));
         }
         if !seen.insert(name.clone()) {
             return Err(f.err("name", "duplicate monitor name"));
         }
-        let given = ["point", "interface", "block"]
+        let given = ["point", "interface", "block", "bolt"]
             .into_iter()
             .filter(|k| f.has(k))
             .collect::<Vec<_>>();
         if given.len() > 1 {
             return Err(f.err(
                 given[1],
-                "give one of `point`, `interface` and `block`, not several",
+                "give one of `point`, `interface` and `block` (or `bolt`), not several",
             ));
         }
         let kind = match (f.has("point"), f.has("interface")) {
+            _ if f.has("bolt") => {
+                let name = f.req("bolt", string)?;
+                let bolt = bolts
+                    .iter()
+                    .position(|b| b.name == name)
+                    .ok_or_else(|| f.err("bolt", format!("unknown bolt {name:?}")))?;
+                MonitorKind::Bolt { bolt }
+            }
             _ if f.has("block") => {
                 let name = f.req("block", string)?;
                 let (set, _) = names
@@ -1427,7 +1444,7 @@ fn monitors(root: &Doc, blocks: &[Block], names: &Names, tol: f64) -> R<Vec<Moni
             (false, false) => {
                 return Err(f.err(
                     "point",
-                    "missing: give one of `point`, `interface` and `block`",
+                    "missing: give one of `point`, `interface` and `block` (or `bolt`)",
                 ))
             }
             (true, false) => {

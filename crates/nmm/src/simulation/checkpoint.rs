@@ -12,7 +12,9 @@
 //!   nodes and polygons (the geometry moves with the material), the last increment (the
 //!   next step's first iterate and contact search distance), the energy balance and the
 //!   committed contact states ([`SavedContacts`]: each contact's law by its name in the
-//!   registry, written once, and its state's words);
+//!   registry, written once, and its state's words); with `[[bolt]]`, last, each bolt's
+//!   committed state ([`crate::bolt::SavedBolt`]) and the bolts' energies (a model without
+//!   bolts writes nothing there: its checkpoints are what they were);
 //! - the run's outputs so far: the length of history.csv in bytes, the .pvd frame lists,
 //!   and the run's counters for summary.json.
 //!
@@ -68,14 +70,18 @@ fn stages_of(model: &Model) -> Vec<Stage> {
 
 /// Fingerprint of the whole model (as loaded: `analysis` is the first stage's when there
 /// are stages, whatever stage a simulation is in). A key added to the model later enters
-/// it only when it is not its default (`[cover] order` = 0), so that the checkpoints of
-/// models that do not use it are what they were.
+/// it only when it is not its default (`[cover] order` = 0, no `[[bolt]]`), so that the
+/// checkpoints of models that do not use it are what they were.
 pub fn model_fingerprint(model: &Model) -> u64 {
     let mut m = model.clone();
     if let Some(s) = m.stages.first() {
         m.analysis = s.analysis.clone();
     }
-    let text = format!("{m:?}");
+    let mut text = format!("{m:?}");
+    // `bolts` is the model's last field
+    if let Some(t) = text.strip_suffix(", bolts: [] }") {
+        text = format!("{t} }}");
+    }
     if m.cover_order == 0 {
         fnv1a(text.replacen(", cover_order: 0", "", 1).as_bytes())
     } else {
@@ -112,6 +118,15 @@ pub fn part_fingerprints(model: &Model, stage: usize) -> Vec<(String, Option<u64
         ),
         ("materials".to_string(), Some(hash_debug(&model.materials))),
     ];
+    if !model.bolts.is_empty() {
+        // the bolts installed by the end of `stage` (their state is saved)
+        let installed: Vec<_> = model
+            .bolts
+            .iter()
+            .filter(|b| b.stage.is_none_or(|s| s <= stage))
+            .collect();
+        parts.push(("bolts".to_string(), Some(hash_debug(&installed))));
+    }
     let stages = stages_of(model);
     for k in 0..=stage {
         let name = match stages.get(k) {
@@ -387,6 +402,19 @@ impl Simulation {
         for k in &c.seen {
             [k.0, k.1, k.2].iter().for_each(|x| w.us(*x));
         }
+        if !self.bolts.is_empty() {
+            let saved = self.bolts.saved();
+            w.us(saved.len());
+            for b in &saved {
+                w.b(b.installed);
+                for x in [b.length0, b.plastic, b.force, b.elongation] {
+                    w.f(x);
+                }
+                w.b(b.yielded);
+            }
+            w.f(e.bolts);
+            w.f(e.bolt_plastic);
+        }
     }
 
     /// Restore a state written by [`Simulation::encode_state`] into a simulation freshly
@@ -476,6 +504,8 @@ impl Simulation {
             constraint_work: r.f()?,
             static_reset: r.f()?,
             contact_update: r.f()?,
+            bolts: 0.0,
+            bolt_plastic: 0.0,
         };
         let commits = r.us()?;
         let nl = r.len(8)?;
@@ -520,6 +550,24 @@ impl Simulation {
             lasting,
             seen,
         });
+        if !self.bolts.is_empty() {
+            let nb = r.len(34)?;
+            let saved = (0..nb)
+                .map(|_| {
+                    Ok(crate::bolt::SavedBolt {
+                        installed: r.b()?,
+                        length0: r.f()?,
+                        plastic: r.f()?,
+                        force: r.f()?,
+                        elongation: r.f()?,
+                        yielded: r.b()?,
+                    })
+                })
+                .collect::<Res<Vec<_>>>()?;
+            self.bolts.restore(&saved)?;
+            self.energy.bolts = r.f()?;
+            self.energy.bolt_plastic = r.f()?;
+        }
         // the next step detects its contacts and assembles afresh, as after any step
         self.contacts_current = false;
         self.linear.step = None;

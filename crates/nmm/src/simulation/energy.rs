@@ -11,9 +11,10 @@ use crate::model::Mode;
 ///
 /// Stored: kinetic ½ vᵀMv + elastic ½ Σ A σᵀD⁻¹σ + gravity potential (−work of gravity
 /// since the start) + contact springs ½ Σ (t_N²/p_N + t_S²/p_S) + penalty springs (ghost
-/// ties and constraints about their targets) = `total`. `external_work` is the work of the
-/// loads and of the base motion's inertial forces; `constraint_work` that of the prescribed
-/// (moving) constraints.
+/// ties and constraints about their targets) + rock bolts ½ Σ N²/k = `total`.
+/// `external_work` is the work of the loads and of the base motion's inertial forces (and
+/// a bolt's pretension ½ N₀²/k at its installation); `constraint_work` that of the
+/// prescribed (moving) constraints.
 ///
 /// Dissipated, summed over the steps, each from its own formula:
 /// * `friction`: Σ t_S Δγ over the contacts (force on the Coulomb limit × plastic slip);
@@ -28,7 +29,9 @@ use crate::model::Mode;
 ///   discards; zero, to the tolerance, for a step that reached equilibrium;
 /// * `contact_update`: what the contact springs lose when the contacts are detected anew on
 ///   the moved geometry at each step's start (new gaps and tributary lengths): their energy
-///   at the end of a step minus their energy at the start of the next.
+///   at the end of a step minus their energy at the start of the next (and the bolts'
+///   the same, on their kinematics taken anew: [`crate::bolt`]);
+/// * `bolt_plastic`: Σ N Δp over the bolts (force at the capacity × plastic elongation).
 ///
 /// Balance: total + dissipated = initial + external work + constraint work, up to the Newton
 /// tolerance and the stresses carried onto the moved elements: `balance_error`. Without external work the total can only fall:
@@ -40,6 +43,8 @@ pub struct Energy {
     pub gravity: f64,
     pub contact: f64,
     pub penalty: f64,
+    /// rock bolts: ½ Σ N²/k
+    pub bolts: f64,
     pub external_work: f64,
     /// total at the start of the run
     pub initial: f64,
@@ -65,13 +70,16 @@ pub struct Energy {
     /// the largest energy flow seen: |external work|, |gravity potential|, dissipated (a
     /// scale for the balance error)
     pub flow: f64,
+    /// dissipated by the bolts' plastic elongation so far: Σ N Δp
+    pub bolt_plastic: f64,
 }
 
 impl Energy {
     pub fn total(&self) -> f64 {
-        self.kinetic + self.elastic + self.gravity + self.contact + self.penalty
+        self.kinetic + self.elastic + self.gravity + self.contact + self.penalty + self.bolts
     }
-    /// The components and the external work, in the order of the fields.
+    /// The components (without the bolts') and the external work, in the order of the
+    /// fields.
     pub fn components(&self) -> [f64; 6] {
         [
             self.kinetic,
@@ -86,9 +94,15 @@ impl Energy {
     pub fn max_rise(&self) -> f64 {
         self.max - self.initial
     }
-    /// Dissipated so far: friction + damping + algorithmic + static reset + contact update.
+    /// Dissipated so far: friction + damping + algorithmic + static reset + contact update
+    /// + the bolts' plastic work.
     pub fn dissipated(&self) -> f64 {
-        self.friction + self.damping + self.algorithmic + self.static_reset + self.contact_update
+        self.friction
+            + self.damping
+            + self.algorithmic
+            + self.static_reset
+            + self.contact_update
+            + self.bolt_plastic
     }
     /// total + dissipated − initial − external work: zero when the balance closes.
     pub fn balance_error(&self) -> f64 {
@@ -250,6 +264,18 @@ impl Simulation {
         e.elastic = elastic;
         e.contact = self.contacts.spring_energy();
         e.penalty = penalty;
+        if !self.bolts.is_empty() {
+            // the bolts: stored ½N²/k, plastic work, the scheme's share, the pretension of
+            // those installed at the step's start (work done on the system) and the
+            // change of their energy between the last step's end and this one's start
+            let b = self.bolts.step_energy();
+            e.external_work += b.installed;
+            e.bolt_plastic += b.plastic;
+            e.algorithmic += b.algorithmic;
+            e.contact_update += e.bolts - b.start;
+            e.bolts = self.bolts.energy();
+            e.flow = e.flow.max(e.external_work.abs()).max(e.dissipated().abs());
+        }
         if first {
             // the state before the first step: unstressed, no springs stretched, moving only
             // if a velocity was set (½ v₀ᵀMv₀)
@@ -261,5 +287,6 @@ impl Simulation {
         for c in e.components() {
             e.scale = e.scale.max(c.abs());
         }
+        e.scale = e.scale.max(e.bolts.abs());
     }
 }

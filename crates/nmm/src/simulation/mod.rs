@@ -18,6 +18,7 @@
 //!
 //! Outputs are written by [`run`] (`run.rs`, the driver) through `writers.rs`.
 
+mod bolt_frames;
 pub mod checkpoint;
 mod energy;
 pub mod memory;
@@ -27,6 +28,7 @@ mod stages;
 mod static_step;
 mod writers;
 
+pub use bolt_frames::bolts_grid;
 pub use energy::Energy;
 pub use static_step::{STATIC_MAX_MOTION, STATIC_OUTER_ITERATIONS};
 
@@ -255,6 +257,8 @@ pub struct Simulation {
     /// element (the stress is linear in the weights); empty at order 0.
     pub stress_nodes: Vec<[f64; 3]>,
     pub contacts: ContactSet,
+    /// The rock bolts ([`crate::bolt`]).
+    pub bolts: crate::bolt::BoltSet,
     pub timings: Timings,
     /// The energy balance after the last step.
     pub energy: Energy,
@@ -345,6 +349,7 @@ impl Simulation {
         let empty = Arc::new(SparsePattern::from_groups(n, std::iter::empty()));
         let mut sim = Simulation {
             contacts: ContactSet::default(),
+            bolts: Default::default(),
             energy: Energy::default(),
             step: 0,
             time: 0.0,
@@ -406,6 +411,8 @@ impl Simulation {
         sim.penalty_base = sim.penalties.clone();
         sim.penalty_factor = sim.model.analysis.constraint_penalty;
         setup::monitors(&mut sim)?;
+        sim.bolts = crate::bolt::BoltSet::new(&sim.model, &sim.disc, &sim.elem_dofs)?;
+        sim.install_bolts();
         sim.ghosts = crate::cover::stabilise::ghost_ties(&sim.disc)
             .iter()
             .map(|t| {
@@ -443,10 +450,12 @@ impl Simulation {
         for g in &self.ghosts {
             groups.push(g.dofs.iter().copied().filter(|&x| x != NO_DOF).collect());
         }
+        groups.extend(self.bolts.groups());
         let pattern = Arc::new(SparsePattern::from_groups(
             self.n_dofs(),
             groups.iter().map(|g| g.as_slice()),
         ));
+        self.bolts.bind(&pattern);
         let slot = |r: usize, c: usize| -> u32 {
             if r == NO_DOF || c == NO_DOF {
                 u32::MAX
@@ -687,6 +696,8 @@ impl Simulation {
             }
         }
         lp.step = Some(self.step);
+        // the bolts' kinematics on the geometry at t_n
+        self.bolts.begin_step(&self.disc, &self.u);
         self.timings.stages.assembly += ta.elapsed();
     }
 
@@ -1005,6 +1016,7 @@ impl Simulation {
             targets: &targets,
             u_n: &self.u,
             contacts: &mut self.contacts,
+            bolts: &mut self.bolts,
             tangent: &mut lp.tangent,
             threads: &self.threads,
             sigma: 0.0,
@@ -1097,6 +1109,7 @@ impl Simulation {
             self.v.iter_mut().for_each(|x| *x = 0.0);
         }
         self.contacts.commit(du);
+        self.bolts.commit(du);
         let mut max_du = 0.0f64;
         let basis = self.disc.basis;
         let nd = self.elem_dofs.stride();

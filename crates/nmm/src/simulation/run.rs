@@ -493,6 +493,7 @@ pub fn run_simulation(
         "gravity_potential": e.gravity,
         "contact_springs": e.contact,
         "penalty_springs": e.penalty,
+        "bolt_springs": e.bolts,
         "total": e.total(),
         "external_work": e.external_work,
         "initial_total": e.initial,
@@ -504,6 +505,7 @@ pub fn run_simulation(
         "algorithmic_dissipation": e.algorithmic,
         "static_reset": e.static_reset,
         "contact_update": e.contact_update,
+        "bolt_plastic_dissipation": e.bolt_plastic,
         "dissipated": e.dissipated(),
         "balance_error": e.balance_error(),
         "balance_error_relative": e.balance_error_relative(),
@@ -573,10 +575,11 @@ fn step_to_end(
                     c.outputs.contacts_frames.clone(),
                     c.outputs.contacts_names.clone(),
                 ),
+                !sim.bolts.is_empty(),
             )?)
         }
         (true, None) => {
-            let mut f = Frames::new(out)?;
+            let mut f = Frames::new(out, !sim.bolts.is_empty())?;
             f.write(sim)?;
             Some(f)
         }

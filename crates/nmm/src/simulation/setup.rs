@@ -229,7 +229,9 @@ pub(super) fn monitors(sim: &mut Simulation) -> Result<(), String> {
                 p,
                 &format!("[[monitor]] \"{}\"", m.name),
             )?),
-            MonitorKind::Interface { .. } | MonitorKind::Block { .. } => None,
+            MonitorKind::Interface { .. }
+            | MonitorKind::Block { .. }
+            | MonitorKind::Bolt { .. } => None,
         });
     }
     sim.monitor_points = pts;

@@ -5,7 +5,9 @@
 //! ([`Simulation::advance`] calls [`Simulation::begin_next_stage`]): its `[analysis]` keys
 //! replace the current ones, its step grid starts at the current time, the record (if the
 //! stage asks for base motion) starts at the stage's start, and the constraint springs take
-//! the stage's `constraint_penalty`. Displacements, stresses and contact states carry over.
+//! the stage's `constraint_penalty`, and the stage's `[[bolt]]`s are installed (on the
+//! current geometry: [`crate::bolt`]). Displacements, stresses and contact states carry
+//! over.
 
 use super::Simulation;
 use crate::model::Mode;
@@ -90,6 +92,7 @@ impl Simulation {
         self.full_steps = 0;
         self.partial = 0.0;
         self.scale_constraint_penalties();
+        self.install_bolts();
         if was_static {
             self.v.iter_mut().for_each(|x| *x = 0.0);
             self.last_du.iter_mut().for_each(|x| *x = 0.0);
@@ -98,6 +101,14 @@ impl Simulation {
         // the friction law and the inertia coefficient may change with the stage
         self.contacts_current = false;
         self.linear.step = None;
+    }
+
+    /// Install the bolts of the stages begun so far (those without a stage at the start)
+    /// on the current geometry ([`crate::bolt`]).
+    pub(super) fn install_bolts(&mut self) {
+        let stage = self.stage;
+        self.bolts
+            .install(&self.disc, &self.u, |s| s.is_none_or(|s| s <= stage));
     }
 
     /// The constraint springs for the current stage's `constraint_penalty`: those set up

@@ -6,7 +6,9 @@
 //! branches is L + K_c (+ σ M, the regularisation). It is applied matrix-free (L by rows,
 //! the contacts by their rank-2 blocks); it is assembled only when the tangent solver
 //! refreshes its factorisation, over the *tangent pattern*: the element pattern plus every
-//! contact coupling of the step (see [`TangentPattern`]).
+//! contact coupling of the step (see [`TangentPattern`]). Rock bolts ([`crate::bolt`])
+//! are pieces of the system too (elastic or yielding), their couplings in the element
+//! pattern.
 
 use super::Penalty;
 use crate::assembly::global;
@@ -224,6 +226,7 @@ pub(crate) struct StepSystem<'a> {
     /// Displacement at the step start.
     pub u_n: &'a [f64],
     pub contacts: &'a mut ContactSet,
+    pub bolts: &'a mut crate::bolt::BoltSet,
     pub tangent: &'a mut TangentPattern,
     pub threads: &'a crate::parallel::Threads,
     pub sigma: f64,
@@ -258,6 +261,7 @@ impl TangentOperator for StepSystem<'_> {
             *yi = s;
         });
         self.contacts.apply_tangent(v, y);
+        self.bolts.apply_tangent(v, y);
     }
 
     fn pattern(&mut self) -> Arc<SparsePattern> {
@@ -281,6 +285,7 @@ impl TangentOperator for StepSystem<'_> {
                 );
             }
         }
+        self.bolts.assemble(values, &self.tangent.map);
     }
 
     fn is_symmetric(&self) -> bool {
@@ -290,21 +295,22 @@ impl TangentOperator for StepSystem<'_> {
 
 impl PiecewiseSystem for StepSystem<'_> {
     fn choose_branches(&mut self, x: &[f64], first: bool) -> usize {
-        self.contacts.choose_branches(x, first)
+        self.contacts.choose_branches(x, first) + self.bolts.choose_branches(x)
     }
 
     fn choose_own_branches(&mut self, x: &[f64]) -> usize {
-        self.contacts.choose_own_branches(x)
+        self.contacts.choose_own_branches(x) + self.bolts.choose_branches(x)
     }
 
     fn residual_on_chosen(&mut self, x: &[f64], r: &mut [f64]) {
         self.linear_residual(x, r);
         self.contacts.add_forces(x, r, false);
+        self.bolts.add_forces(x, r, false);
     }
 
     fn residual(&mut self, x: &[f64], r: &mut [f64]) -> usize {
         self.linear_residual(x, r);
-        let inconsistent = self.contacts.add_forces(x, r, true);
+        let inconsistent = self.contacts.add_forces(x, r, true) + self.bolts.add_forces(x, r, true);
         // physical force scale: loads and weights, constraint reactions, contact forces
         let w = &mut self.work;
         w.clear();
@@ -326,6 +332,7 @@ impl PiecewiseSystem for StepSystem<'_> {
             }
         }
         self.contacts.add_force_magnitudes(w);
+        self.bolts.add_force_magnitudes(x, w);
         self.scale = w.iter().map(|v| v * v).sum::<f64>().sqrt();
         inconsistent
     }

@@ -16,6 +16,7 @@ pub fn history_columns(model: &Model) -> Vec<String> {
             MonitorKind::Point { .. } => &["ux", "uy", "vx", "vy"],
             MonitorKind::Interface { .. } => &["fx", "fy", "fn", "nc"],
             MonitorKind::Block { .. } => &["x", "y", "rotation"],
+            MonitorKind::Bolt { .. } => &["force", "elongation"],
         };
         cols.extend(names.iter().map(|c| format!("{}.{}", m.name, c)));
     }
@@ -38,6 +39,10 @@ pub fn monitor_values(sim: &Simulation) -> Vec<f64> {
             }
             (MonitorKind::Block { blocks }, _) => {
                 vals.extend_from_slice(&block_motion(sim, blocks))
+            }
+            (MonitorKind::Bolt { bolt }, _) => {
+                let b = &sim.bolts.bolts[*bolt];
+                vals.extend_from_slice(&[b.force, b.elongation]);
             }
             _ => vals.extend_from_slice(&[f64::NAN; 4]),
         }
@@ -202,23 +207,35 @@ pub(super) struct Frames {
     dir: PathBuf,
     pub(super) blocks: PvdWriter,
     pub(super) contacts: PvdWriter,
+    /// A model with bolts: their frames, with the blocks'.
+    bolts: Option<PvdWriter>,
 }
 
 impl Frames {
-    pub(super) fn new(out: &Path) -> Result<Frames, RunError> {
-        Frames::with(out, Default::default(), Default::default())
+    pub(super) fn new(out: &Path, bolts: bool) -> Result<Frames, RunError> {
+        Frames::with(out, Default::default(), Default::default(), bolts)
     }
     /// The collections with the frames written so far (a resumed run).
     pub(super) fn with(
         out: &Path,
         blocks: (Vec<(f64, String)>, Vec<String>),
         contacts: (Vec<(f64, String)>, Vec<String>),
+        bolts: bool,
     ) -> Result<Frames, RunError> {
         let dir = out.join("vtk");
         std::fs::create_dir_all(&dir).map_err(|e| io(&dir, e))?;
         let b = out.join("blocks.pvd");
         let c = out.join("contacts.pvd");
+        let bolts = match bolts {
+            false => None,
+            true => {
+                let p = out.join("bolts.pvd");
+                let frames = super::bolt_frames::frames_of_blocks(&blocks.0);
+                Some(PvdWriter::with_frames(&p, frames, blocks.1.clone()).map_err(|e| io(&p, e))?)
+            }
+        };
         Ok(Frames {
+            bolts,
             blocks: PvdWriter::with_frames(&b, blocks.0, blocks.1).map_err(|e| io(&b, e))?,
             contacts: PvdWriter::with_frames(&c, contacts.0, contacts.1).map_err(|e| io(&c, e))?,
             dir,
@@ -242,6 +259,17 @@ impl Frames {
             } else {
                 &mut self.contacts
             };
+            pvd.add_named(
+                sim.time,
+                &format!("vtk/{name}"),
+                sim.stage_name().unwrap_or(""),
+            )
+            .map_err(|e| io(&path, e))?;
+        }
+        if let Some(pvd) = self.bolts.as_mut() {
+            let name = format!("bolts_{:06}.vtu", sim.step);
+            let path = self.dir.join(&name);
+            write_vtu(&path, &super::bolts_grid(sim)).map_err(|e| io(&path, e))?;
             pvd.add_named(
                 sim.time,
                 &format!("vtk/{name}"),

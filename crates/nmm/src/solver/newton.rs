@@ -24,6 +24,18 @@
 //! * after `max_rejections` ([`NewtonOptions`]) such rejections in a row the solve
 //!   reports failure.
 //!
+//! **Watchdog and cycles.** A full Newton step is kept provisionally even when it raises the
+//! merit (up to [`WATCHDOG`] in a row): the active set often needs a few steps to settle,
+//! and a monotone line search would crawl. When the watchdog runs out, the iteration
+//! returns to the best point. On sliding, impacting blocks the full steps from there can
+//! repeat the same cycle of active sets (measured on a shaken jointed slope: the merit
+//! 3.2e4 → 7.4e4 → 9.2e4 → 3.1e5, back, a step of α = 0.1, the same four again, until the
+//! iterations ran out). So each return to the best point also raises σ (from σ₀, ×10
+//! after), which shortens and turns the next directions (a larger inertia in the tangent
+//! only: the solution is unchanged), and each accepted decrease lowers it again (÷10, to 0
+//! below σ₀): the 61-block slope shaken at 0.3 g went from 45 to 13 cut steps of 2,565 and
+//! from 38.5 to 30.7 s; the arch example kept its 0 cuts.
+//!
 //! **Trust region.** A direction may not be longer than `max_step` as the system measures
 //! it (for the NMM step: the relative motion at any contact, against the contact search
 //! distance — the contact set does not describe longer motions). A longer Newton step
@@ -281,6 +293,14 @@ pub fn solve_piecewise(
                     phi_best = pt;
                     provisional = 0;
                     monotone = false;
+                    if !continuation && sigma > 0.0 {
+                        // a σ raised against a cycle falls back towards Newton's own (0)
+                        sigma = if sigma > 1.01 * sigma0 {
+                            0.1 * sigma
+                        } else {
+                            0.0
+                        };
+                    }
                 } else {
                     provisional += 1;
                     rep.provisional_steps += 1;
@@ -316,7 +336,10 @@ pub fn solve_piecewise(
             moving = changed > 0;
             overridden = true;
         } else if !monotone {
-            // the watchdog ran out: back to the best point, a monotone step from there
+            // the watchdog ran out: back to the best point, a monotone step from there,
+            // with the inertia of the tangent raised (see the module docs: a cycle of
+            // active sets)
+            sigma = if sigma > 0.0 { 10.0 * sigma } else { sigma0 };
             x.copy_from_slice(&best);
             inconsistent = sys.residual(x, &mut r);
             phi = norm(&r);

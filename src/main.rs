@@ -268,6 +268,9 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
     for line in nmm::check::record_lines(m) {
         println!("{line}");
     }
+    for line in nmm::check::interface_law_lines(m) {
+        println!("{line}");
+    }
     if m.stages.is_empty() {
         println!(
             "analysis: {:?}, dt = {} s, {} steps, friction {:?}",
@@ -303,22 +306,28 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
 }
 
 /// The `--friction` value.
-fn friction_override(f: Option<&str>) -> anyhow::Result<Option<nmm::model::FrictionAlgorithm>> {
+fn friction_override(f: Option<&str>) -> anyhow::Result<Option<nmm::model::LawId>> {
+    use nmm::model::LawId;
     Ok(match f {
         None => None,
-        Some("return-mapping") => Some(nmm::model::FrictionAlgorithm::ReturnMapping),
-        Some("conventional") => Some(nmm::model::FrictionAlgorithm::Conventional),
-        Some(other) => anyhow::bail!(
-            "--friction: expected \"return-mapping\" or \"conventional\", got \"{other}\""
-        ),
+        Some(name) => match LawId::for_analysis(name) {
+            Some(law) => Some(law),
+            None => {
+                let names: Vec<String> = LawId::analysis_names()
+                    .iter()
+                    .map(|n| format!("\"{n}\""))
+                    .collect();
+                anyhow::bail!(
+                    "--friction: expected {}, got \"{name}\"",
+                    names.join(" or ")
+                )
+            }
+        },
     })
 }
 
 /// Loads a model with the `--friction` override applied to `[analysis]` and every stage.
-fn load(
-    path: &Path,
-    friction: Option<nmm::model::FrictionAlgorithm>,
-) -> anyhow::Result<nmm::model::Model> {
+fn load(path: &Path, friction: Option<nmm::model::LawId>) -> anyhow::Result<nmm::model::Model> {
     Ok(nmm::simulation::with_friction(
         nmm::model::load_model(path)?,
         friction,

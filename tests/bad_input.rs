@@ -725,6 +725,85 @@ fn cut_block_errors() {
     );
 }
 
+/// Bonded interfaces (`tensile_strength`, `residual_friction_angle`): a negative tensile
+/// strength and a residual friction angle above the peak one are refused at their line;
+/// `friction` names only the laws of `[analysis]`.
+#[test]
+fn bonded_interface_values() {
+    let cases: &[(&str, &str, &str, &[&str])] = &[
+        (
+            "negative tensile strength",
+            "cohesion = 0.0\n",
+            "cohesion = 0.0\ntensile_strength = -1.0e4\n",
+            &[
+                "[[interface]] #2 (blocks \"base\", \"slider\"): key `tensile_strength`: must be zero or positive (Pa), got -10000",
+                "model.toml, line 43)",
+            ],
+        ),
+        (
+            "residual friction above the peak",
+            "cohesion = 0.0\n",
+            "cohesion = 0.0\ntensile_strength = 1.0e4\nresidual_friction_angle = 45.0\n",
+            &[
+                "[[interface]] #2 (blocks \"base\", \"slider\"): key `residual_friction_angle`: must not exceed friction_angle = 40.5",
+                "got 45",
+                "model.toml, line 44)",
+            ],
+        ),
+        (
+            "residual friction alone, above the peak",
+            "friction_angle = 30.0\n",
+            "friction_angle = 30.0\nresidual_friction_angle = 31\n",
+            &[
+                "[[interface]] #1 (default): key `residual_friction_angle`: must not exceed friction_angle = 30",
+                "model.toml, line 36)",
+            ],
+        ),
+        (
+            "negative residual friction",
+            "cohesion = 0.0\n",
+            "cohesion = 0.0\nresidual_friction_angle = -5\n",
+            &["key `residual_friction_angle`: must be in [0, 90) degrees, got -5"],
+        ),
+        (
+            "tensile strength not a number",
+            "cohesion = 0.0\n",
+            "cohesion = 0.0\ntensile_strength = \"strong\"\n",
+            &["[[interface]] #2", "key `tensile_strength`", "expected a number"],
+        ),
+        (
+            "friction names an interface's law",
+            "friction = \"return-mapping\"",
+            "friction = \"bonded\"",
+            &[
+                "[analysis]: key `friction`: expected one of \"return-mapping\", \"conventional\", got \"bonded\"",
+            ],
+        ),
+    ];
+    for (case, from, to, expect) in cases {
+        assert_rejected(case, &mutate(from, to), expect);
+    }
+    // valid bonded keys are accepted
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("model.toml");
+    std::fs::write(
+        &path,
+        mutate(
+            "cohesion = 0.0\n",
+            "cohesion = 1.0e5\ntensile_strength = 5.0e4\nresidual_friction_angle = 30.0\n",
+        ),
+    )
+    .unwrap();
+    let (ok, out, err) = check(&path);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains(
+            "interface #2: law \"bonded\" (tensile_strength = 50000, residual_friction_angle = 30)"
+        ),
+        "{out}"
+    );
+}
+
 /// A bolt from the slider to the base (accepted), and its bad-input lines.
 const BOLT: &str = "\n[[bolt]]\nname = \"b1\"\npoints = [[0.5, 1.25], [0.5, 0.5]]\nstiffness = 1.0e8\ncapacity = 2.0e5\n";
 

@@ -231,7 +231,12 @@ fn only_initially_touching_contacts_are_locked() {
             .contacts
             .contacts
             .iter()
-            .map(|c| (c.gn0, c.history.status))
+            .map(|c| {
+                (
+                    c.gn0,
+                    nmm::contact::ShearHistory::from_state(&c.history).status,
+                )
+            })
             .collect();
         assert!(!found.is_empty());
         found

@@ -265,3 +265,120 @@ fn a_branch_from_the_settled_state_runs_as_the_new_models_own_run() {
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains("the model differs in materials ("), "{err}");
 }
+
+/// The shaken slope with a bonded joint (c = 1.5 kPa, T = 1 kPa, φ_r = 35°) on the cover of
+/// 0.1 m: settled (the heel's bonds break in tension as the block leans on its toe), then
+/// shaken in three stages (each stage's end writes a checkpoint; the record starts again
+/// with each), which break the other bonds; the block then slides on the residual friction.
+fn bonded_model_text() -> String {
+    let motion = SineMotion {
+        amplitude: 0.5 * 9.81,
+        frequency: 5.0,
+        ramp: 0.0,
+        duration: 0.4,
+    };
+    let text = slope_model(30.0, &motion, "return-mapping", 1e-3).replace(
+        "friction_angle = 40.5\n",
+        "friction_angle = 40.5\ncohesion = 1500.0\ntensile_strength = 1000.0\nresidual_friction_angle = 35.0\n",
+    );
+    assert!(text.contains("tensile_strength"));
+    let mut stages = format!(
+        "[[stage]]\nname = \"settle\"\nmode = \"static\"\ndt = 0.01\nsteps = {SETTLE_STEPS}\n"
+    );
+    for (k, steps) in [30, 30, 340].into_iter().enumerate() {
+        stages += &format!(
+            "[[stage]]\nname = \"shake {}\"\ndt = 0.001\nsteps = {steps}\nbase_motion = true\n",
+            k + 1
+        );
+    }
+    format!("{text}[[monitor]]\nname = \"joint\"\ninterface = [\"slider\", \"base\"]\n{stages}")
+}
+
+/// The bonds (intact, broken) of the state saved in checkpoint `ckpt` of `model`.
+fn saved_bonds(model: &Path, ckpt: &Path) -> (usize, usize) {
+    let m = nmm::model::load_model(model).unwrap();
+    let mut sim = nmm::simulation::Simulation::new(m).unwrap();
+    let c = nmm::simulation::checkpoint::Checkpoint::read(ckpt).unwrap();
+    sim.restore(&c).unwrap();
+    sim.contacts.bond_counts()
+}
+
+/// Checkpoints and `nmm resume` with bonded joints: resumed from a checkpoint before the
+/// bonds break (the intact states cross it) and from one after (the broken states, kept
+/// while the contacts are open or out of sight, cross it), the history is the
+/// uninterrupted run's byte for byte, and so are the bonds in summary.json.
+#[test]
+fn resumed_runs_with_bonded_joints_write_the_same_history() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = write_model(dir.path(), "bonded.toml", &bonded_model_text());
+    let full = dir.path().join("full");
+    let o = nmm(&[
+        "run",
+        s(&model),
+        "--out",
+        s(&full),
+        "--checkpoint-every",
+        "20",
+        "--no-vtk",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let reference = std::fs::read(full.join("history.csv")).unwrap();
+    let summary_of = |d: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap()
+    };
+    let full_summary = summary_of(&full);
+    assert_eq!(
+        full_summary["bonds"]["intact"], 0,
+        "{}",
+        full_summary["bonds"]
+    );
+    // the checkpoints, in step order, with their bonds
+    let mut ckpts: Vec<PathBuf> = std::fs::read_dir(full.join("checkpoints"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "ckpt"))
+        .collect();
+    ckpts.sort();
+    let bonds: Vec<(usize, usize)> = ckpts.iter().map(|c| saved_bonds(&model, c)).collect();
+    eprintln!("bonds (intact, broken) at the checkpoints: {bonds:?}");
+    let last = *bonds.last().unwrap();
+    assert_eq!(last.0, 0, "every bond broke by the end");
+    // intact bonds that break later cross the first; broken ones the last but one
+    let before = bonds
+        .iter()
+        .position(|b| b.0 > 0 && b.1 < last.1)
+        .expect("a checkpoint with bonds that break later");
+    let after = bonds.len() - 2;
+    assert!(bonds[after].1 > 0 && after > before);
+    eprintln!(
+        "bonds at {}: {:?}; at {}: {:?}; at the end {}",
+        ckpts[before].display(),
+        bonds[before],
+        ckpts[after].display(),
+        bonds[after],
+        full_summary["bonds"]
+    );
+    for (k, at) in [before, after].into_iter().enumerate() {
+        // the run as left at that checkpoint: its later checkpoints removed
+        let out = dir.path().join(format!("resumed{k}"));
+        std::fs::create_dir_all(out.join("checkpoints")).unwrap();
+        for f in ["history.csv", "summary.json"] {
+            std::fs::copy(full.join(f), out.join(f)).unwrap();
+        }
+        let name = ckpts[at].file_name().unwrap();
+        std::fs::copy(&ckpts[at], out.join("checkpoints").join(name)).unwrap();
+        let o = nmm(&["resume", s(&out), "--quiet"]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let resumed = std::fs::read(out.join("history.csv")).unwrap();
+        assert!(
+            resumed == reference,
+            "resumed from {}: history differs from the uninterrupted run's",
+            ckpts[at].display()
+        );
+        let sm = summary_of(&out);
+        assert_eq!(sm["bonds"], full_summary["bonds"]);
+        assert_eq!(sm["energy"], full_summary["energy"]);
+        assert_eq!(sm["iterations"], full_summary["iterations"]);
+    }
+}

@@ -137,3 +137,29 @@ pub fn cut_blocks(m: &crate::model::Model) -> Vec<&str> {
     parents.dedup();
     parents
 }
+
+/// One line per `[[interface]]` that selects a law of its own (the registry's name and its
+/// keys' values, defaults included) for `nmm check`, e.g.
+/// `interface #2: law "bonded" (tensile_strength = 50000, residual_friction_angle = 30)`.
+pub fn interface_law_lines(m: &crate::model::Model) -> Vec<String> {
+    m.interfaces
+        .iter()
+        .enumerate()
+        .filter_map(|(k, i)| {
+            let l = i.law.as_ref()?;
+            let values: Vec<String> = l
+                .law
+                .keys()
+                .iter()
+                .zip(&l.values)
+                .map(|(key, v)| format!("{key} = {v}"))
+                .collect();
+            Some(format!(
+                "interface #{}: law {:?} ({})",
+                k + 1,
+                l.law.name(),
+                values.join(", ")
+            ))
+        })
+        .collect()
+}

@@ -9,7 +9,8 @@
 //! # Sign conventions and symbols
 //! * `g_N` (`gn`): signed normal gap; **negative = penetration**.
 //! * `t_N` (`tn`): normal force, `t_N = p_N g_N` if `g_N < 0`, else `0`.
-//!   Hence `t_N ≤ 0` always (compression); there is never a tensile normal force.
+//!   Hence `t_N ≤ 0` always (compression); these laws never pull (the bonded law of
+//!   [`super::bonded`] does, while its bond holds).
 //! * `Δg_S` (`dgs`): shear displacement increment of the current step (relative
 //!   tangential motion since the last converged state).
 //! * `g_S^e` (`ge`): elastic shear gap; `t_S = p_S g_S^e` (`ts`).
@@ -71,7 +72,7 @@
 //! The return mapping projects onto `|t_S| = S(t_N)` inside the Newton loop,
 //! with the current `t_N`, and so never overshoots.
 
-use crate::model::FrictionAlgorithm;
+use super::law::{Branch, FrictionLaw, IterationContext, LawState, Selection};
 
 /// Material constants of one contact. The laws assume `pn > 0`, `ps > 0`,
 /// `tan_phi ≥ 0`, `cohesion ≥ 0` (validated with the model).
@@ -90,6 +91,10 @@ pub struct FrictionParams {
     pub dashpot: f64,
     /// Normal gap at the step's start, g_N⁰ (the dashpot acts on g_N − g_N⁰).
     pub gn0: f64,
+    /// The contact's constants of its law's own, as the law defines them
+    /// ([`FrictionLaw::own_constants`]: e.g. the bonded law's tensile force and tan φ_r);
+    /// zero for the Coulomb laws of this module.
+    pub own: [f64; 4],
 }
 
 impl FrictionParams {
@@ -166,6 +171,48 @@ pub struct ShearHistory {
     pub slide_sign: f64,
 }
 
+impl ShearHistory {
+    /// The history as a law's opaque state ([`LawState`]): words 0–3 are `ge`, the status
+    /// code (0 open, 1 stick, 2 slide), `tn` and `slide_sign`, the numbers as their bits
+    /// (so that a checkpoint keeps them exactly); the other words are zero.
+    pub fn to_state(&self) -> LawState {
+        let mut w = [0u64; LawState::WORDS];
+        w[0] = self.ge.to_bits();
+        w[1] = match self.status {
+            ContactStatus::Open => 0,
+            ContactStatus::Stick => 1,
+            ContactStatus::Slide => 2,
+        };
+        w[2] = self.tn.to_bits();
+        w[3] = self.slide_sign.to_bits();
+        LawState(w)
+    }
+
+    /// The history of words 0–3 of a state written by [`ShearHistory::to_state`] (an
+    /// unknown status code reads as open: [`ShearHistory::is_encoded`] tells).
+    #[inline]
+    pub fn from_state(s: &LawState) -> ShearHistory {
+        let w = &s.0;
+        ShearHistory {
+            ge: f64::from_bits(w[0]),
+            status: match w[1] {
+                1 => ContactStatus::Stick,
+                2 => ContactStatus::Slide,
+                _ => ContactStatus::Open,
+            },
+            tn: f64::from_bits(w[2]),
+            slide_sign: f64::from_bits(w[3]),
+        }
+    }
+
+    /// Whether words 0–3 of `s` are a history [`ShearHistory::to_state`] can write (a
+    /// known status code, finite numbers).
+    pub fn is_encoded(s: &LawState) -> bool {
+        let h = ShearHistory::from_state(s);
+        s.0[1] <= 2 && h.ge.is_finite() && h.tn.is_finite() && h.slide_sign.is_finite()
+    }
+}
+
 /// Forces, tangent and trial state returned by a law.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LawResponse {
@@ -180,6 +227,9 @@ pub struct LawResponse {
     pub ge: f64,
     /// Signed slip `Δγ` of the step.
     pub slip: f64,
+    /// Plastic normal opening `Δg_N^p ≥ 0` of the step (a law with a tension cut-off;
+    /// zero for the Coulomb laws).
+    pub opening: f64,
 }
 
 /// The response of an open contact: no force, no stiffness.
@@ -205,6 +255,7 @@ impl LawResponse {
             status: ContactStatus::Open,
             ge: 0.0,
             slip: 0.0,
+            opening: 0.0,
         }
     }
 }
@@ -232,6 +283,7 @@ fn stick(p: &FrictionParams, h: &ShearHistory, tn: f64, dgs: f64) -> LawResponse
         status: ContactStatus::Stick,
         ge,
         slip: 0.0,
+        opening: 0.0,
     }
 }
 
@@ -279,6 +331,7 @@ pub fn slide(
         status: ContactStatus::Slide,
         ge: ts / p.ps,
         slip: (trial - ts) / p.ps,
+        opening: 0.0,
     }
 }
 
@@ -318,33 +371,33 @@ pub fn conventional(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> 
                 status: ContactStatus::Slide,
                 ge,
                 slip: dgs - (ge - h.ge),
+                opening: 0.0,
             }
         }
     }
 }
 
-/// Evaluate the law selected by `alg`.
-pub fn evaluate(
-    alg: FrictionAlgorithm,
+/// The history return mapping keeps once the step has converged with response `r`: the
+/// response state as it is.
+pub fn commit_return_mapping(
     p: &FrictionParams,
     h: &ShearHistory,
-    gn: f64,
-    dgs: f64,
-) -> LawResponse {
-    match alg {
-        FrictionAlgorithm::ReturnMapping => return_mapping(p, h, gn, dgs),
-        FrictionAlgorithm::Conventional => conventional(p, h, gn, dgs),
-    }
+    r: &LawResponse,
+) -> ShearHistory {
+    commit(false, p, h, r)
 }
 
-/// The history to keep once the step has converged with response `r`.
-///
-/// Return mapping: the response state is taken as it is. Conventional: an
-/// elastic contact whose force reached the strength `S(r.tn)` is switched to
-/// `Slide` for the next step (its force in this step stays as computed: the
-/// overshoot), with `g_S^e = sgn(t_S) S / p_S`.
-pub fn commit(
-    alg: FrictionAlgorithm,
+/// The history the conventional rule keeps once the step has converged with response `r`:
+/// an elastic contact whose force reached the strength `S(r.tn)` is switched to `Slide`
+/// for the next step (its force in this step stays as computed: the overshoot), with
+/// `g_S^e = sgn(t_S) S / p_S`; a sliding contact whose slip reversed returns to `Stick`.
+pub fn commit_conventional(p: &FrictionParams, h: &ShearHistory, r: &LawResponse) -> ShearHistory {
+    commit(true, p, h, r)
+}
+
+/// [`commit_return_mapping`] (`conventional` false) or [`commit_conventional`].
+fn commit(
+    conventional: bool,
     p: &FrictionParams,
     h: &ShearHistory,
     r: &LawResponse,
@@ -358,9 +411,7 @@ pub fn commit(
         // Conventional: a sliding contact whose slip reversed during the step returns to
         // the elastic spring for the next step (the mode is frozen within a step).
         ContactStatus::Slide
-            if alg == FrictionAlgorithm::Conventional
-                && h.status == ContactStatus::Slide
-                && h.slide_sign * r.slip < 0.0 =>
+            if conventional && h.status == ContactStatus::Slide && h.slide_sign * r.slip < 0.0 =>
         {
             ShearHistory {
                 ge: r.ge,
@@ -373,20 +424,15 @@ pub fn commit(
             ge: r.ge,
             status: ContactStatus::Slide,
             tn: r.tn,
-            slide_sign: match alg {
-                FrictionAlgorithm::ReturnMapping => sgn(r.ts),
-                FrictionAlgorithm::Conventional => {
-                    if h.slide_sign == 0.0 {
-                        sgn(r.ts)
-                    } else {
-                        sgn(h.slide_sign)
-                    }
-                }
+            slide_sign: if !conventional || h.slide_sign == 0.0 {
+                sgn(r.ts)
+            } else {
+                sgn(h.slide_sign)
             },
         },
         ContactStatus::Stick => {
             let strength = p.strength(r.tn);
-            if alg == FrictionAlgorithm::Conventional && r.ts.abs() >= strength {
+            if conventional && r.ts.abs() >= strength {
                 let s = sgn(r.ts);
                 ShearHistory {
                     ge: s * strength / p.ps,
@@ -406,6 +452,201 @@ pub fn commit(
     }
 }
 
+/// Implicit return mapping with the consistent tangent ([`return_mapping`]): the law named
+/// `"return-mapping"` (`[analysis] friction`, the default). Its state is a [`ShearHistory`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ReturnMapping;
+
+/// The conventional open–close rule ([`conventional`]): the law named `"conventional"`.
+/// Its state is a [`ShearHistory`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Conventional;
+
+fn branch_of(r: &LawResponse) -> Branch {
+    match r.status {
+        ContactStatus::Open => Branch::Open,
+        ContactStatus::Stick => Branch::Stick,
+        ContactStatus::Slide => Branch::Slide(if r.ts < 0.0 { -1 } else { 1 }),
+    }
+}
+
+/// The energy bookkeeping's spring forces of a Coulomb contact at the step's start: the
+/// normal spring `p_N min(g_N⁰, 0)` (it holds no tension) and the shear spring `p_S g_S^e`.
+pub fn coulomb_start_forces(p: &FrictionParams, h: &ShearHistory, gn0: f64) -> (f64, f64) {
+    (p.pn * gn0.min(0.0), p.ps * h.ge)
+}
+
+impl ReturnMapping {
+    /// The branch of [`return_mapping`] at (g_N, Δg_S).
+    pub fn branch_of(p: &FrictionParams, h: &ShearHistory, gn: f64, dgs: f64) -> Branch {
+        branch_of(&return_mapping(p, h, gn, dgs))
+    }
+
+    /// The affine piece `branch` of [`return_mapping`] at (g_N, Δg_S), also outside the
+    /// region where the law is on it.
+    pub fn on_branch_of(
+        p: &FrictionParams,
+        h: &ShearHistory,
+        gn: f64,
+        dgs: f64,
+        branch: Branch,
+    ) -> LawResponse {
+        let tn = p.closed_normal(gn);
+        match branch {
+            Branch::Open => open_response(),
+            Branch::Slide(s) => {
+                let s = f64::from(s);
+                // t_S = s (−tan φ p_N g_N + c): the affine continuation of s·S(t_N)
+                slide(p, h, tn, dgs, s, s * (-p.tan_phi * tn + p.cohesion))
+            }
+            // Stick, and any other law's piece: the elastic spring
+            _ => stick_response(p, h, gn, dgs),
+        }
+    }
+
+    /// The semi-smooth Newton rules: the closed-contact predictor of the default; at the
+    /// first iterate a contact that slid at the end of the last step goes on sliding; and a
+    /// contact that slid one way at the previous iterate and would now slide the other way
+    /// is held in stick for this iterate. A sliding contact has no shear stiffness; a Newton
+    /// step computed with it overshoots across the stick band (2S/p_S wide, often 1e-8 m
+    /// against increments of 1e-5 m) and the return mapping then jumps from one slide
+    /// direction to the other. With the stick tangent the iterate lands in the band when the
+    /// solution sticks, and slides on at the next iterate otherwise.
+    pub fn iteration_branch_of(
+        p: &FrictionParams,
+        h: &ShearHistory,
+        gn: f64,
+        dgs: f64,
+        ctx: IterationContext,
+    ) -> Branch {
+        let own = Self::branch_of(p, h, gn, dgs);
+        match (ctx.previous, own) {
+            (None, Branch::Open) if ctx.touching => Branch::Stick,
+            // a contact that slid at the end of the last step starts the step sliding the
+            // same way: at Δg_S = 0 its trial force is exactly its strength, and the law's
+            // branch there is a tie decided by round-off
+            (None, Branch::Stick) if h.status == ContactStatus::Slide && h.slide_sign != 0.0 => {
+                Branch::Slide(if h.slide_sign < 0.0 { -1 } else { 1 })
+            }
+            (Some(Branch::Slide(a)), Branch::Slide(b)) if a != b => Branch::Stick,
+            _ => own,
+        }
+    }
+}
+
+impl FrictionLaw for ReturnMapping {
+    fn name(&self) -> &'static str {
+        "return-mapping"
+    }
+
+    fn selection(&self) -> Selection {
+        Selection::Analysis
+    }
+
+    fn branch(&self, p: &FrictionParams, h: &LawState, gn: f64, dgs: f64) -> Branch {
+        Self::branch_of(p, &ShearHistory::from_state(h), gn, dgs)
+    }
+
+    fn on_branch(
+        &self,
+        p: &FrictionParams,
+        h: &LawState,
+        gn: f64,
+        dgs: f64,
+        branch: Branch,
+    ) -> LawResponse {
+        Self::on_branch_of(p, &ShearHistory::from_state(h), gn, dgs, branch)
+    }
+
+    fn response(&self, p: &FrictionParams, h: &LawState, gn: f64, dgs: f64) -> LawResponse {
+        let h = ShearHistory::from_state(h);
+        Self::on_branch_of(p, &h, gn, dgs, Self::branch_of(p, &h, gn, dgs))
+    }
+
+    fn iteration_branch(
+        &self,
+        p: &FrictionParams,
+        h: &LawState,
+        gn: f64,
+        dgs: f64,
+        ctx: IterationContext,
+    ) -> Branch {
+        Self::iteration_branch_of(p, &ShearHistory::from_state(h), gn, dgs, ctx)
+    }
+
+    fn commit(&self, p: &FrictionParams, h: &LawState, r: &LawResponse) -> LawState {
+        commit_return_mapping(p, &ShearHistory::from_state(h), r).to_state()
+    }
+
+    fn start_forces(&self, p: &FrictionParams, h: &LawState, gn0: f64) -> (f64, f64) {
+        coulomb_start_forces(p, &ShearHistory::from_state(h), gn0)
+    }
+
+    fn valid_state(&self, h: &LawState) -> bool {
+        ShearHistory::is_encoded(h) && h.0[4..].iter().all(|&w| w == 0)
+    }
+}
+
+impl FrictionLaw for Conventional {
+    fn name(&self) -> &'static str {
+        "conventional"
+    }
+
+    fn selection(&self) -> Selection {
+        Selection::Analysis
+    }
+
+    /// Contacts touching at the start of the analysis are locked: an elastic shear spring
+    /// from there on (DDA's initial contacts). A contact that comes to touch later keeps its
+    /// open history and is limited by Coulomb while it closes (see the module docs).
+    fn new_state(&self, touching: bool, at_start: bool) -> LawState {
+        if touching && at_start {
+            ShearHistory {
+                status: ContactStatus::Stick,
+                ..ShearHistory::default()
+            }
+            .to_state()
+        } else {
+            LawState::default()
+        }
+    }
+
+    fn branch(&self, p: &FrictionParams, h: &LawState, gn: f64, dgs: f64) -> Branch {
+        branch_of(&conventional(p, &ShearHistory::from_state(h), gn, dgs))
+    }
+
+    /// The mode of a closed contact is frozen within the step (it is the committed one):
+    /// only open and closed are branches the iteration may hold.
+    fn on_branch(
+        &self,
+        p: &FrictionParams,
+        h: &LawState,
+        gn: f64,
+        dgs: f64,
+        branch: Branch,
+    ) -> LawResponse {
+        let h = ShearHistory::from_state(h);
+        match branch {
+            Branch::Open => open_response(),
+            _ if p.is_closed(gn) => conventional(p, &h, gn, dgs),
+            // held closed at a gap (the predictor): the elastic stick spring
+            _ => stick_response(p, &h, gn, dgs),
+        }
+    }
+
+    fn commit(&self, p: &FrictionParams, h: &LawState, r: &LawResponse) -> LawState {
+        commit_conventional(p, &ShearHistory::from_state(h), r).to_state()
+    }
+
+    fn start_forces(&self, p: &FrictionParams, h: &LawState, gn0: f64) -> (f64, f64) {
+        coulomb_start_forces(p, &ShearHistory::from_state(h), gn0)
+    }
+
+    fn valid_state(&self, h: &LawState) -> bool {
+        ShearHistory::is_encoded(h) && h.0[4..].iter().all(|&w| w == 0)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -418,6 +659,7 @@ mod tests {
         cohesion: 0.0,
         dashpot: 0.0,
         gn0: 0.0,
+        own: [0.0; 4],
     };
 
     fn committed(ge: f64, status: ContactStatus, tn: f64, slide_sign: f64) -> ShearHistory {
@@ -538,7 +780,7 @@ mod tests {
         assert_eq!(r.status, ContactStatus::Slide);
         assert_relative_eq!(r.ts, -2e6 * P.tan_phi, max_relative = 1e-14);
         // ... and the commit returns the contact to stick for the next step.
-        let c = commit(FrictionAlgorithm::Conventional, &P, &h, &r);
+        let c = commit_conventional(&P, &h, &r);
         assert_eq!(c.status, ContactStatus::Stick);
         assert_relative_eq!(c.ge, r.ts / P.ps, max_relative = 1e-14);
     }
@@ -548,33 +790,33 @@ mod tests {
         let h = committed(0.0, ContactStatus::Stick, -1e6, 0.0);
         let r = conventional(&P, &h, -1e-5, 1e-3);
         assert!(r.ts > P.strength(r.tn)); // the overshoot of this step
-        let c = commit(FrictionAlgorithm::Conventional, &P, &h, &r);
+        let c = commit_conventional(&P, &h, &r);
         assert_eq!(c.status, ContactStatus::Slide);
         assert_eq!(c.slide_sign, 1.0);
         assert_relative_eq!(c.ge, P.strength(r.tn) / P.ps, max_relative = 1e-14);
         assert_eq!(c.tn, r.tn);
         // Return-mapping commit keeps the response state.
         let r = return_mapping(&P, &h, -1e-5, 1e-3);
-        let c = commit(FrictionAlgorithm::ReturnMapping, &P, &h, &r);
+        let c = commit_return_mapping(&P, &h, &r);
         assert_eq!(
             (c.status, c.ge, c.tn, c.slide_sign),
             (ContactStatus::Slide, r.ge, r.tn, 1.0)
         );
         // Below the strength, both keep sticking.
-        for alg in [
-            FrictionAlgorithm::ReturnMapping,
-            FrictionAlgorithm::Conventional,
+        for (law, commit) in [
+            (
+                return_mapping as fn(&_, &_, _, _) -> _,
+                commit_return_mapping as fn(&_, &_, &_) -> _,
+            ),
+            (conventional, commit_conventional),
         ] {
-            let r = evaluate(alg, &P, &h, -1e-5, 1e-4);
-            let c = commit(alg, &P, &h, &r);
+            let r = law(&P, &h, -1e-5, 1e-4);
+            let c = commit(&P, &h, &r);
             assert_eq!((c.status, c.ge), (ContactStatus::Stick, 1e-4));
         }
         // Opening resets everything.
         let r = conventional(&P, &h, 1e-6, 1e-3);
-        assert_eq!(
-            commit(FrictionAlgorithm::Conventional, &P, &h, &r),
-            ShearHistory::default()
-        );
+        assert_eq!(commit_conventional(&P, &h, &r), ShearHistory::default());
     }
 
     /// Central finite differences of (t_N, t_S) in (g_N, Δg_S).

@@ -8,13 +8,17 @@
 //! * [`friction`]: the penalty normal law and Coulomb friction, by implicit
 //!   return mapping (with the consistent, unsymmetric tangent) or by the
 //!   conventional DDA rule, as pure functions of numbers;
+//! * [`bonded`]: the bonded joint that breaks (Mohr–Coulomb with a tension cut-off,
+//!   then residual friction), a pure function of numbers;
+//! * [`law`]: the interface every law implements and the one registry of their names;
 //! * [`generate`]: seeded geometry generators for benchmarks and tests.
 //!
 //! Sign conventions shared by all parts: `g_N < 0` is penetration,
-//! `t_N = p_N g_N ≤ 0` is compression, normals point out of the block that owns
-//! the segment. The kinematics on the NMM covers and the contact set carried
+//! `t_N = p_N g_N ≤ 0` is compression (`t_N > 0`, tension, only on a bonded
+//! contact, [`bonded`]), normals point out of the block that owns the segment. The kinematics on the NMM covers and the contact set carried
 //! over Newton iterations are built on top of these parts.
 
+pub mod bonded;
 pub mod broad;
 pub mod friction;
 pub mod generate;
@@ -25,11 +29,11 @@ pub mod set;
 
 pub use broad::sweep_and_prune;
 pub use friction::{
-    commit, conventional, evaluate, return_mapping, ContactStatus, FrictionParams, LawResponse,
-    ShearHistory,
+    commit_conventional, commit_return_mapping, conventional, return_mapping, ContactStatus,
+    FrictionParams, LawResponse, ShearHistory,
 };
 pub use generate::brick_wall;
-pub use law::{law_for, Branch, FrictionLaw, IterationContext};
+pub use law::{Branch, FrictionLaw, IterationContext, LawId, LawState, LAWS};
 pub use narrow::{
     corner_flags, vertex_edge_contacts, vertex_edge_contacts_with, NarrowParams, VertexEdge,
 };

@@ -51,18 +51,23 @@
 //! **Identity and state.** A contact is identified by (block A, vertex of A, block B), so
 //! that it keeps its elastic shear gap and its stick/slide state when its vertex passes
 //! from one segment of B to the next. States are committed only when a step converges.
-//! The branch each contact is linearised on at a Newton iterate is chosen by its
-//! [`FrictionLaw`] ([`ContactSet::choose_branches`]).
+//! Each contact has its law ([`LawId`]: its interface's own, else the analysis'
+//! `friction`), which owns its state ([`LawState`]) and chooses the branch the contact is
+//! linearised on at a Newton iterate ([`ContactSet::choose_branches`]). The state of a
+//! closed contact is kept for the next step; an open one starts afresh, unless its law
+//! keeps the state ([`super::law::FrictionLaw::lasting`]: a broken bond), which then outlives the
+//! contact's detection. A contact whose law changed (its vertex passed onto a face of
+//! another interface) starts afresh under its new law.
 
 use super::broad::sweep_and_prune;
-use super::friction::{ContactStatus, FrictionParams, LawResponse, ShearHistory};
-use super::law::{law_for, Branch, FrictionLaw, IterationContext};
+use super::friction::{ContactStatus, FrictionParams, LawResponse};
+use super::law::{Branch, IterationContext, LawId, LawState};
 use super::narrow::{vertex_edge_contacts_loops, NarrowParams, VertexEdge};
 use super::restitution::DashpotTable;
 use crate::cover::basis::{ELEMENT_DOFS, MAX_ELEMENT_DOFS, NO_DOF};
 use crate::cover::{barycentric, Discretisation};
 use crate::geometry::{cross, dot, norm, sub, Aabb, Vec2};
-use crate::model::{FrictionAlgorithm, Model};
+use crate::model::Model;
 use std::collections::HashMap;
 
 mod insitu;
@@ -177,8 +182,10 @@ pub struct Contact {
     pub weight: f64,
     /// The contact's springs and strength: the interface's per-length values × `weight`.
     pub params: FrictionParams,
-    /// Committed history (end of the last converged step).
-    pub history: ShearHistory,
+    /// The contact's law.
+    pub law: LawId,
+    /// Committed state under its law (end of the last converged step).
+    pub history: LawState,
     /// The contact is new to this step and its gap at the start of the step is within the
     /// touching tolerance (the closed-contact predictor holds it closed at the first iterate).
     pub touching: bool,
@@ -295,6 +302,9 @@ pub struct ContactSnapshot {
     pub weight: f64,
     /// 0 open, 1 stick, 2 slide.
     pub state: u8,
+    /// Its bond, under a law with bonds: intact (`Some(true)`) or broken (`Some(false)`),
+    /// as committed at the end of the step.
+    pub bond: Option<bool>,
     pub first: usize,
     pub second: usize,
     /// Joint that made the face of `second` the contact is on, if any.
@@ -312,11 +322,13 @@ pub struct BranchCounts {
 #[derive(Clone)]
 pub struct ContactSet {
     pub contacts: Vec<Contact>,
-    /// Committed history of each closed contact, with the outward normal it had.
-    committed: HashMap<ContactKey, (ShearHistory, Vec2)>,
+    /// Committed state of each closed contact under its law, with the outward normal it had.
+    committed: HashMap<ContactKey, (LawId, LawState, Vec2)>,
+    /// The committed states their laws keep while the contacts are open or out of sight
+    /// ([`super::law::FrictionLaw::lasting`]).
+    lasting: HashMap<ContactKey, (LawId, LawState)>,
     /// Every contact of the last committed step, open ones included.
     seen: std::collections::HashSet<ContactKey>,
-    law: &'static dyn FrictionLaw,
     /// The run's threads: the laws of the contacts are evaluated on them (local work), the
     /// forces scattered in contact order.
     pub threads: crate::parallel::Threads,
@@ -352,7 +364,8 @@ pub struct ContactSet {
 /// t_N Δg_N + t_S Δg_S on its relative motion (Δg_N = g_N − g_N⁰, from the gap at the step's
 /// start). Of that work,
 /// * `friction` is t_S Δγ, the force on the Coulomb limit times the plastic slip of the
-///   step (≥ 0: the slip is along the force);
+///   step (≥ 0: the slip is along the force), plus t_N Δg_N^p, the force on a tension
+///   cut-off times the plastic opening of the step (a bonded contact, ≥ 0);
 /// * the springs store the change of ½ t_N²/p_N + ½ t_S²/p_S, from its value at the step's
 ///   start, `start_energy` (the normal spring at the gap g_N⁰, the shear spring at its
 ///   committed elastic gap);
@@ -377,22 +390,27 @@ pub struct StepDissipation {
 fn step_dissipation(c: &Contact, gn: f64, gs: f64) -> StepDissipation {
     let r = &c.response;
     let p = &c.params;
-    if r.status == ContactStatus::Open && c.gn0 >= 0.0 && c.history.ge == 0.0 {
+    // an in-situ shear gap is part of the springs' state at the step's start, not motion:
+    // the start forces are the law's response at (g_N⁰, g_S⁰) (elastic: the in-situ state
+    // is inside the strength)
+    let (tn0, ts0, gs) = if c.gs0 != 0.0 {
+        let s = c.law.law().response(p, &c.history, c.gn0, c.gs0);
+        (p.spring_normal(s.tn), s.ts, gs - c.gs0)
+    } else {
+        let (tn0, ts0) = c.law.law().start_forces(p, &c.history, c.gn0);
+        (tn0, ts0, gs)
+    };
+    if r.status == ContactStatus::Open && tn0 == 0.0 && ts0 == 0.0 {
         return StepDissipation::default();
     }
-    // an in-situ shear gap is part of the springs' state at the step's start, not motion
-    let (ge0, gs) = if c.gs0 != 0.0 {
-        (c.history.ge + c.gs0, gs - c.gs0)
-    } else {
-        (c.history.ge, gs)
-    };
-    let tn0 = p.pn * c.gn0.min(0.0);
-    let ts0 = p.ps * ge0;
     let start = p.spring_energy(tn0, ts0);
     let tn_spring = p.spring_normal(r.tn);
     let end = p.spring_energy(tn_spring, r.ts);
     let work = r.tn * (gn - c.gn0) + r.ts * gs;
-    let friction = r.ts * r.slip;
+    let mut friction = r.ts * r.slip;
+    if r.opening != 0.0 {
+        friction += r.tn * r.opening;
+    }
     // the restitution dashpot's force (c_N/Δt) Δg_N over Δg_N
     let damping = (r.tn - tn_spring) * (gn - c.gn0);
     StepDissipation {
@@ -408,8 +426,8 @@ impl Default for ContactSet {
         ContactSet {
             contacts: Vec::new(),
             committed: HashMap::new(),
+            lasting: HashMap::new(),
             seen: std::collections::HashSet::new(),
-            law: law_for(FrictionAlgorithm::ReturnMapping),
             threads: Default::default(),
             touch_tol: 0.0,
             spacing: 0.0,
@@ -430,7 +448,6 @@ impl std::fmt::Debug for ContactSet {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("ContactSet")
             .field("contacts", &self.contacts.len())
-            .field("law", &self.law.name())
             .field("commits", &self.commits)
             .finish()
     }
@@ -537,11 +554,6 @@ impl ContactSet {
         self.touch_tol
     }
 
-    /// The friction law of the set.
-    pub fn law(&self) -> &'static dyn FrictionLaw {
-        self.law
-    }
-
     /// Unknowns of each contact: its two elements' (2 × the basis's per element).
     pub fn contact_dofs(&self) -> usize {
         self.row_len
@@ -549,7 +561,6 @@ impl ContactSet {
 
     /// Find the contacts on the current geometry (displacement `u` from the initial one).
     pub fn detect(&mut self, disc: &Discretisation, model: &Model, u: &[f64], search: f64) {
-        self.law = law_for(model.analysis.friction);
         self.contacts.clear();
         self.generation += 1;
         let basis = disc.basis;
@@ -618,6 +629,18 @@ impl ContactSet {
         let density = 2.0 / self.spacing;
         let mut pairs = sweep_and_prune(&boxes);
         pairs.sort_unstable();
+        // An intact bond holds its contact: a bonded vertex that passed the end of its face
+        // (by the bond's elastic shear, or round-off) stays in contact with that face
+        // ([`held_edge`]); only laws with bonds have such contacts.
+        let mut held: HashMap<(usize, usize), Vec<(usize, Vec2)>> = HashMap::new();
+        for (k, (l, h, n)) in &self.committed {
+            if l.law().bond(h) == Some(true) {
+                held.entry((k.0, k.2)).or_default().push((k.1, *n));
+            }
+        }
+        for v in held.values_mut() {
+            v.sort_unstable_by_key(|x| x.0);
+        }
         for (a, b) in pairs {
             if model.blocks[a].fixed && model.blocks[b].fixed {
                 continue;
@@ -630,14 +653,26 @@ impl ContactSet {
             }
             for (pa, pb) in [(a, b), (b, a)] {
                 let (la, lb) = (&disc.boundaries[pa].loops, &disc.boundaries[pb].loops);
-                for mut ve in vertex_edge_contacts_loops(
+                let mut found = vertex_edge_contacts_loops(
                     (&polys[pa], la),
                     (&polys[pb], lb),
                     &corners[pa],
                     &NarrowParams::new(search),
-                ) {
+                );
+                if let Some(hs) = held.get(&(pa, pb)) {
+                    for &(v, n_old) in hs {
+                        if found.iter().any(|f| f.vertex == v) {
+                            continue;
+                        }
+                        if let Some(e) = held_edge(&polys[pa][v], (&polys[pb], lb), n_old, search)
+                        {
+                            found.push(VertexEdge { vertex: v, ..e });
+                        }
+                    }
+                }
+                for mut ve in found {
                     let key = (pa, ve.vertex, pb);
-                    if let Some((_, n_old)) = self.committed.get(&key) {
+                    if let Some((_, _, n_old)) = self.committed.get(&key) {
                         // Corner against corner the entrance edge is nearly a tie; keep the
                         // edge the contact had while it still holds the vertex, so that the
                         // normal does not flip between steps (which pumps energy in).
@@ -746,6 +781,11 @@ impl ContactSet {
                     } else {
                         ve.gap
                     };
+                    // the interface's own law, else the analysis'
+                    let (law, own) = match &iface.law {
+                        Some(l) => (l.law, l.law.law().own_constants(&l.values, weight)),
+                        None => (model.analysis.friction, [0.0; 4]),
+                    };
                     let params = FrictionParams {
                         pn,
                         ps,
@@ -754,17 +794,21 @@ impl ContactSet {
                         // set by `apply_dashpots` once every contact of the step is known
                         dashpot: 0.0,
                         gn0,
+                        own,
                     };
                     // a contact new to this step that touches: the predictor holds it closed
                     // at the first iterate (a contact of the last step keeps the state the
                     // last step found for it)
                     let touching = ve.gap <= self.touch_tol && !self.seen.contains(&key);
-                    let history = match self.committed.get(&key) {
-                        Some(c) => c.0,
-                        None if self.commits == 0 => self.law.initial_history(touching),
-                        None => ShearHistory::default(),
+                    let kept = match self.committed.get(&key) {
+                        Some(&(l, h, _)) => Some((l, h)),
+                        None => self.lasting.get(&key).copied(),
                     };
-                    let response = self.law.response(&params, &history, gn0, gs0);
+                    let history = match kept {
+                        Some((l, h)) if l == law => h,
+                        _ => law.law().new_state(touching, self.commits == 0),
+                    };
+                    let response = law.law().response(&params, &history, gn0, gs0);
                     self.contacts.push(Contact {
                         key,
                         segment: ve.segment,
@@ -775,6 +819,7 @@ impl ContactSet {
                         gs0,
                         weight,
                         params,
+                        law,
                         history,
                         touching,
                         branch: Branch::Open,
@@ -869,13 +914,13 @@ impl ContactSet {
     }
 
     /// Choose each contact's branch at the iterate Δu = `du` (the law's
-    /// [`FrictionLaw::iteration_branch`]; `first`: the first iterate of the step). Returns
+    /// [`super::law::FrictionLaw::iteration_branch`]; `first`: the first iterate of the step). Returns
     /// how many contacts changed branch (at the first iterate: how many are not open).
     pub fn choose_branches(&mut self, du: &[f64], first: bool) -> usize {
-        let law = self.law;
         let cs = &self.contacts;
         let chosen = self.threads.map(cs.len(), |i| {
             let c = &cs[i];
+            let law = c.law.law();
             let (gn, gs) = c.gaps(du);
             let ctx = IterationContext {
                 previous: (!first).then_some(c.branch),
@@ -903,10 +948,10 @@ impl ContactSet {
     /// Put every contact on the law's own branch at `du` (no iteration rule). Returns how
     /// many contacts changed branch.
     pub fn choose_own_branches(&mut self, du: &[f64]) -> usize {
-        let law = self.law;
         let cs = &self.contacts;
         let chosen = self.threads.map(cs.len(), |i| {
             let c = &cs[i];
+            let law = c.law.law();
             let (gn, gs) = c.gaps(du);
             let b = law.branch(&c.params, &c.history, gn, gs);
             (
@@ -928,11 +973,11 @@ impl ContactSet {
     /// forces from `r`. With `own`, returns how many contacts are on another branch than the
     /// one chosen (0: the chosen active set is consistent at `du`).
     pub fn add_forces(&mut self, du: &[f64], r: &mut [f64], own: bool) -> usize {
-        let law = self.law;
         let cs = &self.contacts;
         // local work: each contact's law at du (in parallel), then the ordered scatter
         let responses = self.threads.map(cs.len(), |i| {
             let c = &cs[i];
+            let law = c.law.law();
             let (gn, gs) = c.gaps(du);
             if own {
                 let b = law.branch(&c.params, &c.history, gn, gs);
@@ -1077,7 +1122,7 @@ impl ContactSet {
             match c.branch {
                 Branch::Open => n.open += 1,
                 Branch::Stick => n.stick += 1,
-                Branch::Slide(_) => n.slide += 1,
+                Branch::Slide(_) | Branch::Limit(..) => n.slide += 1,
             }
         }
         n
@@ -1106,12 +1151,12 @@ impl ContactSet {
 
     /// Commit the converged increment: every contact's law response becomes its history.
     pub fn commit(&mut self, du: &[f64]) {
-        let law = self.law;
         self.commits += 1;
         self.committed.clear();
         self.seen.clear();
         self.dissipation = StepDissipation::default();
         for c in self.contacts.iter_mut() {
+            let law = c.law.law();
             self.seen.insert(c.key);
             let (gn, gs) = c.gaps(du);
             c.response = law.response(&c.params, &c.history, gn, gs);
@@ -1123,9 +1168,32 @@ impl ContactSet {
             let h = law.commit(&c.params, &c.history, &c.response);
             c.history = h;
             if c.response.status != ContactStatus::Open {
-                self.committed.insert(c.key, (h, c.normal));
+                self.committed.insert(c.key, (c.law, h, c.normal));
+            }
+            if law.lasting(&h) {
+                self.lasting.insert(c.key, (c.law, h));
+            } else if !self.lasting.is_empty() {
+                self.lasting.remove(&c.key);
             }
         }
+    }
+
+    /// Bonds of the contacts under a law with bonds, as committed: (intact, among the
+    /// contacts of the last step — an intact bond is never open —, and broken so far,
+    /// whether detected in the last step or not). Contacts that never had a bond are in
+    /// neither count.
+    pub fn bond_counts(&self) -> (usize, usize) {
+        let intact = self
+            .committed
+            .values()
+            .filter(|(l, h, _)| l.law().bond(h) == Some(true))
+            .count();
+        let broken = self
+            .lasting
+            .values()
+            .filter(|(l, h)| l.law().bond(h) == Some(false))
+            .count();
+        (intact, broken)
     }
 
     /// Total force on block `first` from block `second` at the last evaluation.
@@ -1173,10 +1241,12 @@ impl ContactSet {
                         -(r.tn * c.normal[0] + r.ts * c.tangent[0]),
                         -(r.tn * c.normal[1] + r.ts * c.tangent[1]),
                     ],
-                    normal_force: r.tn.abs(),
+                    // compression positive; a bonded contact in tension negative
+                    normal_force: if r.tn > 0.0 { -r.tn } else { r.tn.abs() },
                     shear_force: r.ts,
                     weight: c.weight,
                     state: status_code(r.status),
+                    bond: c.law.law().bond(&c.history),
                     first: c.key.0,
                     second: c.key.2,
                     joint: c.joint,
@@ -1184,6 +1254,66 @@ impl ContactSet {
             })
             .collect()
     }
+}
+
+/// Whether a contact of `model` may be under a law with bonds (an interface's own law or a
+/// stage's `friction`): outputs then add the bonds of the contacts.
+pub fn uses_bonds(model: &Model) -> bool {
+    model
+        .interfaces
+        .iter()
+        .filter_map(|i| i.law.as_ref().map(|l| l.law))
+        .chain(std::iter::once(model.analysis.friction))
+        .chain(model.stages.iter().map(|s| s.analysis.friction))
+        .any(|l| l.law().has_bonds())
+}
+
+/// For a bonded contact the detection did not find: the segment of `b` with the normal
+/// `n_old` the contact had (within 0.99) nearest to `p`, whose strip, lengthened by
+/// `reach` at both ends, holds `p` within the gap range [−`reach`, `reach`] (the
+/// projection clamped to the segment).
+fn held_edge(
+    p: &Vec2,
+    (b, loops): (&[Vec2], &[usize]),
+    n_old: Vec2,
+    reach: f64,
+) -> Option<VertexEdge> {
+    let m = b.len();
+    let mut best: Option<(f64, VertexEdge)> = None;
+    for j in 0..m {
+        let (a, q) = (b[j], b[crate::geometry::region::loop_next(loops, m, j)]);
+        let d = sub(q, a);
+        let len = norm(d);
+        if len == 0.0 {
+            continue;
+        }
+        let t = [d[0] / len, d[1] / len];
+        let n = [t[1], -t[0]];
+        if dot(n, n_old) < 0.99 {
+            continue;
+        }
+        let s = dot(sub(*p, a), t);
+        let gap = -cross(d, sub(*p, a)) / len;
+        if s < -reach || s > len + reach || gap.abs() > reach {
+            continue;
+        }
+        // distance beyond the segment's ends, then the gap: the nearest segment
+        let out = (-s).max(s - len).max(0.0) + gap.abs();
+        if best.as_ref().is_none_or(|(o, _)| out < *o) {
+            best = Some((
+                out,
+                VertexEdge {
+                    vertex: 0,
+                    segment: j,
+                    xi: (s / len).clamp(0.0, 1.0),
+                    gap,
+                    normal: n,
+                    tangent: t,
+                },
+            ));
+        }
+    }
+    best.map(|b| b.1)
 }
 
 /// The segment of `b` whose outward normal is (nearly) `n_old` and that still holds

@@ -18,13 +18,11 @@ pub enum Mode {
     Static,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FrictionAlgorithm {
-    /// Implicit return mapping with the consistent tangent (the default).
-    ReturnMapping,
-    /// The classical open–close treatment (overshoots the strength within a step).
-    Conventional,
-}
+/// The contact law `[analysis] friction` names (a law of the registry,
+/// [`crate::contact::law::LAWS`]): `"return-mapping"` (the default: implicit return mapping
+/// with the consistent tangent) or `"conventional"` (the classical open–close treatment,
+/// which overshoots the strength within a step).
+pub use crate::contact::law::LawId;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Analysis {
@@ -32,7 +30,7 @@ pub struct Analysis {
     pub dt: f64,
     pub steps: usize,
     pub gravity: Vec2,
-    pub friction: FrictionAlgorithm,
+    pub friction: LawId,
     pub output_every: usize,
     /// Extension: Newton iteration limit per step (default 25).
     pub max_iterations: usize,
@@ -254,6 +252,17 @@ pub struct Interface {
     /// calibrated against the time integration ([`crate::contact::restitution`]); `None`:
     /// no dashpot (the impacts lose only what the time integration takes).
     pub restitution: Option<f64>,
+    /// The law this interface selects by its own keys (e.g. `tensile_strength`: the bonded
+    /// law), with their values; `None`: the analysis' `friction`.
+    pub law: Option<InterfaceLaw>,
+}
+
+/// A law an `[[interface]]` selects by setting its own keys, with the values of those keys
+/// (checked and defaulted by the law, in the order of its keys).
+#[derive(Debug, Clone, PartialEq)]
+pub struct InterfaceLaw {
+    pub law: LawId,
+    pub values: Vec<f64>,
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -229,7 +229,7 @@ struct AnalysisKeys {
     dt: Option<f64>,
     steps: Option<usize>,
     gravity: Option<Vec2>,
-    friction: Option<FrictionAlgorithm>,
+    friction: Option<LawId>,
     output_every: Option<usize>,
     max_iterations: Option<usize>,
     tolerance: Option<f64>,
@@ -268,17 +268,10 @@ fn analysis_keys(f: &Fields) -> R<AnalysisKeys> {
     };
     let gravity = f.opt("gravity", pair)?;
     let friction = if f.has("friction") {
-        Some(
-            match choice(
-                f,
-                "friction",
-                &["return-mapping", "conventional"],
-                "return-mapping",
-            )? {
-                "conventional" => FrictionAlgorithm::Conventional,
-                _ => FrictionAlgorithm::ReturnMapping,
-            },
-        )
+        // the laws `friction` may name: the registry's
+        let names = LawId::analysis_names();
+        let name = choice(f, "friction", &names, LawId::default().name())?;
+        LawId::for_analysis(name)
     } else {
         None
     };
@@ -343,10 +336,7 @@ fn analysis_and_stages(root: &Doc, has_base_motion: bool) -> R<(Analysis, Vec<St
             dt: k.dt.or(base.dt).ok_or_else(|| missing("dt"))?,
             steps: k.steps.or(base.steps).ok_or_else(|| missing("steps"))?,
             gravity: k.gravity.or(base.gravity).unwrap_or([0.0, 0.0]),
-            friction: k
-                .friction
-                .or(base.friction)
-                .unwrap_or(FrictionAlgorithm::ReturnMapping),
+            friction: k.friction.or(base.friction).unwrap_or_default(),
             output_every: k.output_every.or(base.output_every).unwrap_or(1),
             max_iterations: k.max_iterations.or(base.max_iterations).unwrap_or(25),
             tolerance: k.tolerance.or(base.tolerance).unwrap_or(DEFAULT_TOLERANCE),
@@ -763,7 +753,7 @@ fn interfaces(
     let mut joint_at: HashMap<usize, usize> = HashMap::new();
     for (k, t) in array_of_tables(root, "interface")?.into_iter().enumerate() {
         let mut f = root.fields(format!("[[interface]] #{}", k + 1), t, "interface", Some(k));
-        f.deny_unknown(&[
+        let mut allowed = vec![
             "blocks",
             "joint",
             "friction_angle",
@@ -771,7 +761,10 @@ fn interfaces(
             "normal_penalty",
             "shear_penalty",
             "restitution",
-        ])?;
+        ];
+        // the keys of the laws an interface selects (the registry's)
+        allowed.extend(LawId::interface_keys());
+        f.deny_unknown(&allowed)?;
         if f.has("blocks") && f.has("joint") {
             return Err(f.err("joint", "give either `blocks` or `joint`, not both"));
         }
@@ -857,6 +850,7 @@ fn interfaces(
                 ));
             }
         }
+        let law = interface_law(&f, friction_angle, cohesion)?;
         out.push(Interface {
             scope,
             friction_angle,
@@ -864,6 +858,7 @@ fn interfaces(
             normal_penalty,
             shear_penalty,
             restitution,
+            law,
         });
     }
     if default_at.is_none() && blocks.len() >= 2 {
@@ -891,6 +886,41 @@ fn interfaces(
         }
     }
     Ok(out)
+}
+
+/// The law an interface selects by its own keys (see [`crate::contact::law`]), with their
+/// values checked by the law: errors at the key's line.
+fn interface_law(f: &Fields, friction_angle: f64, cohesion: f64) -> R<Option<InterfaceLaw>> {
+    let laws = LawId::for_interface(|k| f.has(k));
+    let Some(&law) = laws.first() else {
+        return Ok(None);
+    };
+    if let Some(other) = laws.get(1) {
+        let key = other
+            .keys()
+            .iter()
+            .find(|k| f.has(k))
+            .copied()
+            .unwrap_or("");
+        return Err(f.err(
+            key,
+            format!(
+                "selects the {:?} law, but this interface's other keys select the {:?} law",
+                other.name(),
+                law.name()
+            ),
+        ));
+    }
+    let keys = law.keys();
+    let given = keys
+        .iter()
+        .map(|k| f.opt(k, number))
+        .collect::<R<Vec<_>>>()?;
+    let values = law
+        .law()
+        .interface_values(friction_angle, cohesion, &given)
+        .map_err(|(i, msg)| f.err(keys.get(i).copied().unwrap_or(""), msg))?;
+    Ok(Some(InterfaceLaw { law, values }))
 }
 
 /// Check that a segment lies on the block boundary.

@@ -16,6 +16,9 @@
 //!   blocks interpenetrate; above, the system is ill-conditioned and the time step must be
 //!   tiny. The shear penalty is often far softer (the paper's slope: p_S = 1e-3 p_N) and is
 //!   not checked.
+//! * **a law's own warning** about an interface's values (the law's
+//!   [`crate::contact::law::FrictionLaw::interface_warning`]): a bonded interface whose
+//!   `tensile_strength` is above the apex c / tan φ of its Mohr–Coulomb line.
 //! * **cover much finer than the blocks need** ([`cover_warnings`], on the discretisation):
 //!   in a model of two or more blocks, more than [`UNKNOWNS_PER_BLOCK`] (2000) unknowns per
 //!   free block on average, i.e. more than about 30 mesh cells across a block. For blocks in
@@ -125,6 +128,19 @@ pub fn warnings(model: &Model) -> Vec<String> {
                         "stiffer: an ill-conditioned system that needs a tiny time step"
                     }
                 ));
+            }
+        }
+    }
+    // a law's own warning about its interface values (e.g. a tensile strength above the
+    // apex of the Mohr–Coulomb line)
+    for (k, i) in model.interfaces.iter().enumerate() {
+        if let Some(l) = &i.law {
+            if let Some(w) = l
+                .law
+                .law()
+                .interface_warning(i.friction_angle, i.cohesion, &l.values)
+            {
+                out.push(format!("{}: {w}", interface_place(model, k, i)));
             }
         }
     }

@@ -11,7 +11,8 @@
 //!   interval), stage, where the base-motion record starts, u, v, stresses, the element
 //!   nodes and polygons (the geometry moves with the material), the last increment (the
 //!   next step's first iterate and contact search distance), the energy balance and the
-//!   committed contact states ([`SavedContacts`]); with `[[bolt]]`, last, each bolt's
+//!   committed contact states ([`SavedContacts`]: each contact's law by its name in the
+//!   registry, written once, and its state's words); with `[[bolt]]`, last, each bolt's
 //!   committed state ([`crate::bolt::SavedBolt`]) and the bolts' energies (a model without
 //!   bolts writes nothing there: its checkpoints are what they were);
 //! - the run's outputs so far: the length of history.csv in bytes, the .pvd frame lists,
@@ -22,15 +23,15 @@
 //! temporary name and renamed, so a run killed while writing leaves the previous one.
 
 use super::{Energy, Simulation};
-use crate::contact::friction::{ContactStatus, ShearHistory};
+use crate::contact::law::{LawId, LawState};
 use crate::contact::set::SavedContacts;
-use crate::model::{FrictionAlgorithm, Model, Stage};
+use crate::model::{Model, Stage};
 use std::path::Path;
 use std::time::Duration;
 
 const MAGIC: &[u8; 8] = b"NMMCKPT\n";
 /// Bumped whenever the layout below changes.
-pub const FORMAT: u32 = 3;
+pub const FORMAT: u32 = 4;
 
 /// The program version a checkpoint must come from.
 pub fn program_version() -> String {
@@ -168,7 +169,7 @@ pub fn part_fingerprints(model: &Model, stage: usize) -> Vec<(String, Option<u64
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct SavedOptions {
     /// `--friction` given on the command line.
-    pub friction: Option<FrictionAlgorithm>,
+    pub friction: Option<LawId>,
     pub vtk: bool,
     /// Checkpoint every N steps (0: only at stage ends and interrupts).
     pub checkpoint_every: usize,
@@ -306,20 +307,23 @@ impl Rd<'_> {
     }
 }
 
-fn friction_code(f: Option<FrictionAlgorithm>) -> u64 {
-    match f {
-        None => 0,
-        Some(FrictionAlgorithm::ReturnMapping) => 1,
-        Some(FrictionAlgorithm::Conventional) => 2,
-    }
+/// A law's state: its words.
+fn law_state(w: &mut W, h: &LawState) {
+    h.0.iter().for_each(|x| w.u64(*x));
 }
 
-fn status_code(s: ContactStatus) -> u64 {
-    match s {
-        ContactStatus::Open => 0,
-        ContactStatus::Stick => 1,
-        ContactStatus::Slide => 2,
+/// A law and its state written by [`law_state`], the law by its index in `laws`.
+fn read_law_state(r: &mut Rd, laws: &[LawId]) -> Res<(LawId, LawState)> {
+    let i = r.us()?;
+    let law = *laws.get(i).ok_or_else(|| format!("bad contact law {i}"))?;
+    let mut h = LawState::default();
+    for x in h.0.iter_mut() {
+        *x = r.u64()?;
     }
+    if !law.law().valid_state(&h) {
+        return Err(format!("bad contact state for law {:?}", law.name()));
+    }
+    Ok((law, h))
 }
 
 fn frames(w: &mut W, f: &[(f64, String)]) {
@@ -398,21 +402,30 @@ impl Simulation {
         }
         let c = self.contacts.saved();
         w.us(c.commits);
+        // the registry's names: the contacts' laws are their indices in this list
+        let laws: Vec<LawId> = LawId::all().collect();
+        w.us(laws.len());
+        laws.iter().for_each(|l| w.s(l.name()));
+        let index = |l: &LawId| laws.iter().position(|x| x == l).unwrap_or(0);
         w.us(c.committed.len());
-        for (k, h, n) in &c.committed {
+        for (k, l, h, n) in &c.committed {
             [k.0, k.1, k.2].iter().for_each(|x| w.us(*x));
-            w.f(h.ge);
-            w.u64(status_code(h.status));
-            w.f(h.tn);
-            w.f(h.slide_sign);
+            w.us(index(l));
+            law_state(w, h);
             w.f(n[0]);
             w.f(n[1]);
+        }
+        w.us(c.lasting.len());
+        for (k, l, h) in &c.lasting {
+            [k.0, k.1, k.2].iter().for_each(|x| w.us(*x));
+            w.us(index(l));
+            law_state(w, h);
         }
         w.us(c.seen.len());
         for k in &c.seen {
             [k.0, k.1, k.2].iter().for_each(|x| w.us(*x));
         }
-        // in-situ stress and excavation (format 3): the energy the excavated blocks took,
+        // in-situ stress and excavation (format 4): the energy the excavated blocks took,
         // the contacts' in-situ offsets (the excavated blocks follow from the stage)
         w.f(e.excavated);
         let offsets = self.contacts.insitu_offsets();
@@ -531,24 +544,27 @@ impl Simulation {
             bolt_plastic: 0.0,
         };
         let commits = r.us()?;
-        let nc = r.len(80)?;
+        let nl = r.len(8)?;
+        let laws = (0..nl)
+            .map(|_| {
+                let name = r.s()?;
+                LawId::by_name(&name).ok_or_else(|| format!("unknown contact law {name:?}"))
+            })
+            .collect::<Res<Vec<_>>>()?;
+        let words = 8 * LawState::WORDS;
+        let nc = r.len(40 + words)?;
         let mut committed = Vec::with_capacity(nc);
         for _ in 0..nc {
             let k = (r.us()?, r.us()?, r.us()?);
-            let ge = r.f()?;
-            let status = match r.u64()? {
-                0 => ContactStatus::Open,
-                1 => ContactStatus::Stick,
-                2 => ContactStatus::Slide,
-                x => return Err(format!("bad contact status {x}")),
-            };
-            let h = ShearHistory {
-                ge,
-                status,
-                tn: r.f()?,
-                slide_sign: r.f()?,
-            };
-            committed.push((k, h, [r.f()?, r.f()?]));
+            let (l, h) = read_law_state(r, &laws)?;
+            committed.push((k, l, h, [r.f()?, r.f()?]));
+        }
+        let nk = r.len(32 + words)?;
+        let mut lasting = Vec::with_capacity(nk);
+        for _ in 0..nk {
+            let k = (r.us()?, r.us()?, r.us()?);
+            let (l, h) = read_law_state(r, &laws)?;
+            lasting.push((k, l, h));
         }
         let ns = r.len(24)?;
         let seen = (0..ns)
@@ -558,6 +574,7 @@ impl Simulation {
         if committed
             .iter()
             .map(|c| c.0)
+            .chain(lasting.iter().map(|c| c.0))
             .chain(seen.iter().copied())
             .any(|k| k.0 >= blocks || k.2 >= blocks)
         {
@@ -566,6 +583,7 @@ impl Simulation {
         self.contacts.restore(&SavedContacts {
             commits,
             committed,
+            lasting,
             seen,
         });
         self.energy.excavated = r.f()?;
@@ -621,7 +639,7 @@ impl Simulation {
             w.u64(h.unwrap_or(0));
         }
         w.s(model_path);
-        w.u64(friction_code(options.friction));
+        w.s(options.friction.map_or("", LawId::name));
         w.b(options.vtk);
         w.us(options.checkpoint_every);
         w.us(self.step);
@@ -737,11 +755,12 @@ impl Checkpoint {
                 .map(|_| Ok((r.s()?, Some(r.u64()?))))
                 .collect::<Res<Vec<_>>>()?;
             let model_path = r.s()?;
-            let friction = match r.u64()? {
-                0 => None,
-                1 => Some(FrictionAlgorithm::ReturnMapping),
-                2 => Some(FrictionAlgorithm::Conventional),
-                x => return Err(format!("bad friction code {x}")),
+            let friction = match r.s()?.as_str() {
+                "" => None,
+                name => Some(
+                    LawId::for_analysis(name)
+                        .ok_or_else(|| format!("unknown friction law {name:?}"))?,
+                ),
             };
             let options = SavedOptions {
                 friction,

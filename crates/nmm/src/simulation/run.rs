@@ -86,7 +86,7 @@ pub struct RunOptions {
     /// interrupted). Checkpoints are written only with a `model_path`.
     pub checkpoint_every: usize,
     /// The `--friction` override the model was loaded with (recorded in checkpoints).
-    pub friction: Option<crate::model::FrictionAlgorithm>,
+    pub friction: Option<crate::model::LawId>,
     /// Where the run starts: afresh, resuming its own checkpoint, or branching from a
     /// checkpoint of another run.
     pub start: Start,
@@ -173,6 +173,9 @@ pub struct RunSummary {
     pub warnings: Vec<String>,
     /// With `[[stage]]`: the stage of the last step (`None` without stages).
     pub stage: Option<String>,
+    /// A model with bonded interfaces: the contacts' bonds at the end, (intact, broken)
+    /// ([`crate::contact::set::ContactSet::bond_counts`]); `None` otherwise (no key).
+    pub bonds: Option<(usize, usize)>,
     /// Peak resident memory of the process (Linux: VmHWM), `None` elsewhere.
     pub peak_memory_bytes: Option<u64>,
     pub model_path: Option<PathBuf>,
@@ -224,6 +227,14 @@ impl RunSummary {
 
     /// summary.json: every key is documented in `docs/outputs.md`; times in s.
     pub fn to_json(&self) -> Value {
+        let mut v = self.json_core();
+        if let Some((intact, broken)) = self.bonds {
+            v["bonds"] = json!({ "intact": intact, "broken": broken });
+        }
+        v
+    }
+
+    fn json_core(&self) -> Value {
         let mut sorted = self.solves.clone();
         sorted.sort_unstable();
         let total: usize = sorted.iter().sum();
@@ -330,7 +341,7 @@ pub(super) fn io(path: &Path, e: std::io::Error) -> RunError {
 }
 
 /// The model with a `--friction` override applied to `[analysis]` and every stage.
-pub fn with_friction(mut model: Model, friction: Option<crate::model::FrictionAlgorithm>) -> Model {
+pub fn with_friction(mut model: Model, friction: Option<crate::model::LawId>) -> Model {
     if let Some(f) = friction {
         model.analysis.friction = f;
         for s in model.stages.iter_mut() {
@@ -474,6 +485,7 @@ pub fn run_simulation(
         progress.warning(w);
     }
     let result = step_to_end(sim, out, opts, progress, &mut summary);
+    summary.bonds = crate::contact::set::uses_bonds(&sim.model).then(|| sim.contacts.bond_counts());
     let e = sim.energy;
     summary.energy = Some(json!({
         "kinetic": e.kinetic,

@@ -174,7 +174,9 @@ pub fn contacts_grid(sim: &Simulation) -> Grid {
     let mut g = Grid::default();
     let (mut normal, mut force, mut tn, mut ts, mut state, mut pair, mut joint) =
         (vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
+    let mut bond = vec![];
     for c in sim.contacts.snapshots() {
+        bond.push(c.bond.map_or(-1, i32::from));
         g.cells.push(Cell::vertex(g.points.len()));
         g.points.push(c.position);
         normal.extend_from_slice(&c.normal);
@@ -197,6 +199,10 @@ pub fn contacts_grid(sim: &Simulation) -> Grid {
         pair,
     ));
     g.cell_data.push(DataArray::int32("joint", joint));
+    // a model with bonded interfaces: 1 bonded, 0 broken, −1 no bond
+    if crate::contact::set::uses_bonds(&sim.model) {
+        g.cell_data.push(DataArray::int32("bond", bond));
+    }
     g
 }
 

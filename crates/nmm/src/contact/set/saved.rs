@@ -3,7 +3,7 @@
 //! detection on the restored geometry.
 
 use super::{ContactKey, ContactSet};
-use crate::contact::friction::ShearHistory;
+use crate::contact::law::{LawId, LawState};
 use crate::geometry::Vec2;
 
 /// The committed state of a contact set after a converged step.
@@ -11,8 +11,11 @@ use crate::geometry::Vec2;
 pub struct SavedContacts {
     /// Converged steps committed so far.
     pub commits: usize,
-    /// Committed history and outward normal of each closed contact, sorted by key.
-    pub committed: Vec<(ContactKey, ShearHistory, Vec2)>,
+    /// Committed law, state and outward normal of each closed contact, sorted by key.
+    pub committed: Vec<(ContactKey, LawId, LawState, Vec2)>,
+    /// The states kept while their contacts are open or out of sight (broken bonds), sorted
+    /// by key.
+    pub lasting: Vec<(ContactKey, LawId, LawState)>,
     /// Every contact of the last committed step, open ones included, sorted.
     pub seen: Vec<ContactKey>,
 }
@@ -21,17 +24,24 @@ impl ContactSet {
     /// What the next step needs of this set (sorted, so that the same state saves the
     /// same bytes).
     pub fn saved(&self) -> SavedContacts {
-        let mut committed: Vec<(ContactKey, ShearHistory, Vec2)> = self
+        let mut committed: Vec<(ContactKey, LawId, LawState, Vec2)> = self
             .committed
             .iter()
-            .map(|(k, (h, n))| (*k, *h, *n))
+            .map(|(k, (l, h, n))| (*k, *l, *h, *n))
             .collect();
         committed.sort_by_key(|c| c.0);
+        let mut lasting: Vec<(ContactKey, LawId, LawState)> = self
+            .lasting
+            .iter()
+            .map(|(k, (l, h))| (*k, *l, *h))
+            .collect();
+        lasting.sort_by_key(|c| c.0);
         let mut seen: Vec<ContactKey> = self.seen.iter().copied().collect();
         seen.sort_unstable();
         SavedContacts {
             commits: self.commits,
             committed,
+            lasting,
             seen,
         }
     }
@@ -40,7 +50,12 @@ impl ContactSet {
     /// the next detection).
     pub fn restore(&mut self, s: &SavedContacts) {
         self.commits = s.commits;
-        self.committed = s.committed.iter().map(|(k, h, n)| (*k, (*h, *n))).collect();
+        self.committed = s
+            .committed
+            .iter()
+            .map(|(k, l, h, n)| (*k, (*l, *h, *n)))
+            .collect();
+        self.lasting = s.lasting.iter().map(|(k, l, h)| (*k, (*l, *h))).collect();
         self.seen = s.seen.iter().copied().collect();
         self.contacts.clear();
         self.generation += 1;

@@ -146,7 +146,8 @@ fn inside_loop(name: &str, joints: &[Joint], blocks: &[Block], tol: f64) -> Opti
     let JointKind::Polyline { points } = &j.kind else {
         return None;
     };
-    let closed = points.len() >= 4 && crate::geometry::dist(points[0], points[points.len() - 1]) <= tol;
+    let closed =
+        points.len() >= 4 && crate::geometry::dist(points[0], points[points.len() - 1]) <= tol;
     if !closed {
         return None;
     }

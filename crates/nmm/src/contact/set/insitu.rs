@@ -182,7 +182,11 @@ impl ContactSet {
             return (0.0, 0.0);
         };
         if self.commits > 0 {
-            return self.insitu.offsets.get(&key).map_or((0.0, 0.0), |o| (o.0, 0.0));
+            return self
+                .insitu
+                .offsets
+                .get(&key)
+                .map_or((0.0, 0.0), |o| (o.0, 0.0));
         }
         if gap.abs() > self.touch_tol {
             self.insitu.offsets.remove(&key);
@@ -190,7 +194,7 @@ impl ContactSet {
         }
         let f = force(&s);
         let (tn, ts) = (-dot(f, n), -dot(f, t));
-        if !(tn < 0.0) {
+        if tn.is_nan() || tn >= 0.0 {
             self.insitu.offsets.remove(&key);
             return (0.0, 0.0);
         }

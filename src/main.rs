@@ -229,11 +229,7 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     let m = &sim.model;
-    let areas: Vec<f64> = m
-        .blocks
-        .iter()
-        .map(|b| nmm::geometry::polygon::signed_area(&b.vertices))
-        .collect();
+    let areas: Vec<f64> = m.blocks.iter().map(|b| b.area()).collect();
     let total: f64 = areas.iter().sum();
     let (smallest, smallest_at) = nmm::check::smallest(&areas);
     let fixed = m.blocks.iter().filter(|b| b.fixed).count();

@@ -8,9 +8,10 @@
 
 use nmm::geometry::cut::{cut_polygon, Cut, Trace};
 use nmm::geometry::polygon::{
-    degeneracy, is_ccw, point_in_polygon, point_segment_distance, polygons_overlap,
-    segment_on_boundary, self_intersection, signed_area, Location,
+    degeneracy, is_ccw, point_in_polygon, point_segment_distance, segment_on_boundary,
+    self_intersection, signed_area, Location,
 };
+use nmm::geometry::region::{regions_overlap, Region};
 use nmm::geometry::{Aabb, Vec2};
 use nmm::model::parse_model;
 use proptest::prelude::*;
@@ -89,13 +90,21 @@ fn area(p: &[Vec2]) -> f64 {
     signed_area(p)
 }
 
+fn region(p: &nmm::geometry::cut::Piece) -> Region<'_> {
+    Region {
+        outer: &p.vertices,
+        holes: &p.holes,
+    }
+}
+
 /// The pieces tile `poly`: areas add up (1e-9 relative), pieces are simple CCW polygons
-/// that do not overlap, edges tagged `None` lie on the block's boundary and edges tagged
-/// `Some(j)` on a trace of joint j, and every sample point inside the block is inside
-/// (or on the boundary of) a piece and strictly inside at most one.
+/// (with clockwise holes where a loop of traces cut out pieces inside them) that do not
+/// overlap, edges tagged `None` lie on the block's boundary and edges tagged `Some(j)` on
+/// a trace of joint j, and every sample point inside the block is inside (or on the
+/// boundary of) a piece and strictly inside at most one.
 fn assert_tiles(label: &str, poly: &[Vec2], traces: &[Trace], cut: &Cut) {
     let a0 = area(poly);
-    let total: f64 = cut.pieces.iter().map(|p| area(&p.vertices)).sum();
+    let total: f64 = cut.pieces.iter().map(|p| region(p).area()).sum();
     assert!(
         ((total - a0) / a0).abs() < 1e-9,
         "{label}: pieces' area {total} vs {a0}"
@@ -114,9 +123,22 @@ fn assert_tiles(label: &str, poly: &[Vec2], traces: &[Trace], cut: &Cut) {
             None,
             "{label}: piece {i} self-intersects"
         );
-        assert_eq!(p.edge_joint.len(), v.len(), "{label}: piece {i}");
-        for k in 0..v.len() {
-            let (a, b) = (v[k], v[(k + 1) % v.len()]);
+        assert_eq!(
+            p.edge_joint.len(),
+            region(p).edge_count(),
+            "{label}: piece {i}"
+        );
+        for h in &p.holes {
+            assert!(
+                signed_area(h) < 0.0,
+                "{label}: piece {i}: a hole not clockwise"
+            );
+            assert_eq!(self_intersection(h, tol), None, "{label}: piece {i}");
+        }
+        let edges = region(p)
+            .loops()
+            .flat_map(|l| (0..l.len()).map(move |k| (l[k], l[(k + 1) % l.len()])));
+        for (k, (a, b)) in edges.enumerate() {
             match p.edge_joint[k] {
                 None => assert!(
                     segment_on_boundary(poly, a, b, 10.0 * tol),
@@ -144,7 +166,7 @@ fn assert_tiles(label: &str, poly: &[Vec2], traces: &[Trace], cut: &Cut) {
         for j in i + 1..cut.pieces.len() {
             if boxes[i].overlaps(&boxes[j]) {
                 assert!(
-                    !polygons_overlap(&cut.pieces[i].vertices, &cut.pieces[j].vertices, 10.0 * tol),
+                    !regions_overlap(region(&cut.pieces[i]), region(&cut.pieces[j]), 10.0 * tol),
                     "{label}: pieces {i} and {j} overlap"
                 );
             }
@@ -164,7 +186,7 @@ fn assert_tiles(label: &str, poly: &[Vec2], traces: &[Trace], cut: &Cut) {
         let locs: Vec<Location> = cut
             .pieces
             .iter()
-            .map(|pc| point_in_polygon(&pc.vertices, p, 10.0 * tol))
+            .map(|pc| region(pc).locate(p, 10.0 * tol))
             .collect();
         let inside = locs.iter().filter(|&&l| l == Location::Inside).count();
         let on = locs.iter().filter(|&&l| l == Location::Boundary).count();
@@ -363,11 +385,15 @@ fn min_width(cut: &Cut) -> f64 {
     cut.pieces
         .iter()
         .map(|p| {
-            let v = &p.vertices;
-            let per: f64 = (0..v.len())
-                .map(|k| nmm::geometry::dist(v[k], v[(k + 1) % v.len()]))
+            let per: f64 = region(p)
+                .loops()
+                .map(|v| {
+                    (0..v.len())
+                        .map(|k| nmm::geometry::dist(v[k], v[(k + 1) % v.len()]))
+                        .sum::<f64>()
+                })
                 .sum();
-            2.0 * area(v) / per
+            2.0 * region(p).area() / per
         })
         .fold(f64::INFINITY, f64::min)
 }
@@ -494,7 +520,7 @@ fn non_persistent_sets_cut_only_where_they_cross() {
             for w in c.points.windows(2) {
                 let mid = [(w[0][0] + w[1][0]) / 2.0, (w[0][1] + w[1][1]) / 2.0];
                 assert_eq!(
-                    point_in_polygon(piece, mid, 1e-9),
+                    region(&cut.pieces[c.piece]).locate(mid, 1e-9),
                     Location::Inside,
                     "{name}: crack {:?} in piece {} {:?}",
                     c.points,
@@ -791,14 +817,14 @@ proptest! {
                         for (k, p) in cut.pieces.iter().enumerate() {
                             let kept = cut.kept.iter().any(|g| g.into == k);
                             prop_assert!(
-                                area(&p.vertices) >= m || kept,
+                                region(p).area() >= m || kept,
                                 "piece of {} < {m}",
-                                area(&p.vertices)
+                                region(p).area()
                             );
                         }
                         for g in &cut.kept {
                             prop_assert!(g.area < m && g.into < cut.pieces.len());
-                            let a = area(&cut.pieces[g.into].vertices);
+                            let a = region(&cut.pieces[g.into]).area();
                             prop_assert!((a - g.area).abs() <= 1e-9 * a.max(1.0), "{a} vs {}", g.area);
                         }
                     }

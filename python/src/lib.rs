@@ -827,7 +827,7 @@ impl Model {
                 m.materials.get(b.material).map(|mat| mat.name.as_str()),
             )?;
             row.set_item("fixed", b.fixed)?;
-            row.set_item("area", nmm::geometry::polygon::signed_area(&b.vertices))?;
+            row.set_item("area", b.area())?;
             row.set_item("parent", b.parent.as_deref())?;
             row.set_item("polygon", f64_bytes(py, b.vertices.iter().flatten()))?;
             row.set_item(

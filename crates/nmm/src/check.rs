@@ -12,11 +12,7 @@ use serde_json::{json, Value};
 /// in that order.
 pub fn check_json(sim: &Simulation, model: &str) -> Value {
     let m = &sim.model;
-    let areas: Vec<f64> = m
-        .blocks
-        .iter()
-        .map(|b| crate::geometry::polygon::signed_area(&b.vertices))
-        .collect();
+    let areas: Vec<f64> = m.blocks.iter().map(|b| b.area()).collect();
     let total: f64 = areas.iter().sum();
     let (smallest, smallest_at) = smallest(&areas);
     json!({

@@ -90,19 +90,41 @@ pub fn model_scene(model: &Model, mesh: Option<&Discretisation>, title: &str) ->
         }
     }
     let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-12);
-    let mut free = 0usize;
-    for b in &model.blocks {
-        let fill = if b.fixed {
-            GREY
-        } else {
-            free += 1;
-            FILLS[(free - 1) % FILLS.len()]
-        };
-        s.polygons.push(ScenePolygon {
-            points: xy(&b.vertices),
-            fill: Some((fill, if b.fixed { 0.5 } else { 0.8 })),
-            outline: Some(((0, 0, 0), 1)),
-        });
+    // blocks with holes first, each with its holes in white, so that what lies in a hole
+    // (a tunnel's plug) is drawn over it; then the others
+    let fills: Vec<_> = {
+        let mut free = 0usize;
+        model
+            .blocks
+            .iter()
+            .map(|b| {
+                if b.fixed {
+                    GREY
+                } else {
+                    free += 1;
+                    FILLS[(free - 1) % FILLS.len()]
+                }
+            })
+            .collect()
+    };
+    for with_holes in [true, false] {
+        for (b, &fill) in model.blocks.iter().zip(&fills) {
+            if b.holes.is_empty() == with_holes {
+                continue;
+            }
+            s.polygons.push(ScenePolygon {
+                points: xy(&b.vertices),
+                fill: Some((fill, if b.fixed { 0.5 } else { 0.8 })),
+                outline: Some(((0, 0, 0), 1)),
+            });
+            for h in &b.holes {
+                s.polygons.push(ScenePolygon {
+                    points: xy(h),
+                    fill: Some(((255, 255, 255), 1.0)),
+                    outline: Some(((0, 0, 0), 1)),
+                });
+            }
+        }
     }
     if let Some(d) = mesh {
         for e in &d.elements {
@@ -115,15 +137,10 @@ pub fn model_scene(model: &Model, mesh: Option<&Discretisation>, title: &str) ->
     }
     let mut used = vec![false; model.joints.len()];
     for b in &model.blocks {
-        let n = b.vertices.len();
-        for (k, j) in b.edge_joint.iter().enumerate() {
+        for ((p, q), j) in b.edges().zip(&b.edge_joint) {
             if let Some(j) = *j {
                 used[j] = true;
-                s.lines.push((
-                    xy(&[b.vertices[k], b.vertices[(k + 1) % n]]),
-                    JOINTS[j % JOINTS.len()],
-                    2,
-                ));
+                s.lines.push((xy(&[p, q]), JOINTS[j % JOINTS.len()], 2));
             }
         }
     }

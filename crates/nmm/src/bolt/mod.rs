@@ -218,6 +218,17 @@ impl BoltSet {
             .map(|b| b.dofs.iter().copied().filter(|&d| d != NO_DOF).collect())
     }
 
+    /// Number the bolts' unknowns again after an excavation removed some (`map`: new index
+    /// of every old unknown, [`NO_DOF`] for a removed one; a bolt is never anchored in an
+    /// excavated block, `model` refuses it).
+    pub fn renumber(&mut self, map: &[usize]) {
+        for b in &mut self.bolts {
+            for d in b.dofs.iter_mut().filter(|d| **d != NO_DOF) {
+                *d = map[*d];
+            }
+        }
+    }
+
     /// Bind each bolt's tangent entries to their slots in the element pattern (which holds
     /// [`BoltSet::groups`]).
     pub fn bind(&mut self, pattern: &crate::solver::SparsePattern) {

@@ -2,7 +2,10 @@
 //! (geometry only, no physics).
 //!
 //! Both polylines are closed and counter-clockwise (CCW), without a repeated
-//! closing vertex. Segment `j` of `B` runs from `b[j]` to `b[(j+1) % n]`.
+//! closing vertex. Segment `j` of `B` runs from `b[j]` to `b[(j+1) % n]`. A block with
+//! holes has several loops ([`vertex_edge_contacts_loops`]): each with the material on
+//! its left (the holes clockwise), one after the other in the list, segment `j` running
+//! to the next vertex of its own loop; everything below holds loop by loop.
 //!
 //! # Conventions
 //! * `tangent t = (b[j+1] − b[j]) / L`, unit, along the segment;
@@ -109,6 +112,46 @@ pub fn vertex_edge_contacts(
     vertex_edge_contacts_with(a, b, corner_a, &NarrowParams::new(search))
 }
 
+/// As [`vertex_edge_contacts_with`], for polylines of several loops: `a_loops`, `b_loops`
+/// the first vertex of each loop (empty or `[0]`: one loop; see the module doc).
+pub fn vertex_edge_contacts_loops(
+    (a, a_loops): (&[Vec2], &[usize]),
+    (b, b_loops): (&[Vec2], &[usize]),
+    corner_a: &[bool],
+    prm: &NarrowParams,
+) -> Vec<VertexEdge> {
+    let la = Loops {
+        starts: a_loops,
+        n: a.len(),
+    };
+    let lb = Loops {
+        starts: b_loops,
+        n: b.len(),
+    };
+    detect((a, la), (b, lb), corner_a, prm, b.len() > GRID_THRESHOLD)
+}
+
+/// The loops of a polyline: the first vertex of each (empty or `[0]`: one loop).
+#[derive(Clone, Copy)]
+struct Loops<'a> {
+    starts: &'a [usize],
+    n: usize,
+}
+
+impl Loops<'_> {
+    fn one(n: usize) -> Self {
+        Loops { starts: &[], n }
+    }
+    #[inline]
+    fn next(&self, i: usize) -> usize {
+        crate::geometry::region::loop_next(self.starts, self.n, i)
+    }
+    #[inline]
+    fn prev(&self, i: usize) -> usize {
+        crate::geometry::region::loop_prev(self.starts, self.n, i)
+    }
+}
+
 /// Corner flags of a closed polyline: vertex `i` is a corner when the
 /// direction turns there by more than `angle` (radians) either way.
 pub fn corner_flags(poly: &[Vec2], angle: f64) -> Vec<bool> {
@@ -146,7 +189,7 @@ struct Segments {
 }
 
 impl Segments {
-    fn new(b: &[Vec2]) -> Self {
+    fn new(b: &[Vec2], lb: Loops) -> Self {
         let n = b.len();
         let mut s = Segments {
             p0: Vec::with_capacity(n),
@@ -154,7 +197,7 @@ impl Segments {
             len: Vec::with_capacity(n),
         };
         for j in 0..n {
-            let e = sub(b[(j + 1) % n], b[j]);
+            let e = sub(b[lb.next(j)], b[j]);
             let l = norm(e);
             s.p0.push(b[j]);
             s.len.push(l);
@@ -181,7 +224,7 @@ struct Grid {
 }
 
 impl Grid {
-    fn new(b: &[Vec2], seg: &Segments, bbox: &Aabb, reach: f64) -> Self {
+    fn new(b: &[Vec2], lb: Loops, seg: &Segments, bbox: &Aabb, reach: f64) -> Self {
         let n = seg.len.len();
         let mean = seg.len.iter().sum::<f64>() / n as f64;
         let diag = bbox.diagonal().max(f64::MIN_POSITIVE);
@@ -199,7 +242,7 @@ impl Grid {
             entries: Vec::with_capacity(4 * n),
         };
         for j in 0..n {
-            let sb = Aabb::of_points(&[b[j], b[(j + 1) % n]]).inflate(reach);
+            let sb = Aabb::of_points(&[b[j], b[lb.next(j)]]).inflate(reach);
             let (x0, y0) = g.coords(sb.min);
             let (x1, y1) = g.coords(sb.max);
             for ix in x0..=x1 {
@@ -263,12 +306,18 @@ pub fn vertex_edge_contacts_with(
     corner_a: &[bool],
     prm: &NarrowParams,
 ) -> Vec<VertexEdge> {
-    detect(a, b, corner_a, prm, b.len() > GRID_THRESHOLD)
+    detect(
+        (a, Loops::one(a.len())),
+        (b, Loops::one(b.len())),
+        corner_a,
+        prm,
+        b.len() > GRID_THRESHOLD,
+    )
 }
 
 fn detect(
-    a: &[Vec2],
-    b: &[Vec2],
+    (a, la): (&[Vec2], Loops),
+    (b, lb): (&[Vec2], Loops),
     corner_a: &[bool],
     prm: &NarrowParams,
     use_grid: bool,
@@ -286,11 +335,11 @@ fn detect(
     let reach = search.max(max_pen) + end_tol;
     let bbox_b = Aabb::of_points(b);
     let outer = bbox_b.inflate(reach);
-    let seg = Segments::new(b);
+    let seg = Segments::new(b, lb);
     let scale_b = bbox_b.diagonal();
     let on_tol = 1e-12 * scale_b;
     let corner_tol = (CORNER_SIDE * reach).min(CORNER_SIDE_MAX * scale_b);
-    let grid = use_grid.then(|| Grid::new(b, &seg, &bbox_b, reach));
+    let grid = use_grid.then(|| Grid::new(b, lb, &seg, &bbox_b, reach));
     let all: Vec<(u64, u32)> = if grid.is_none() {
         (0..nb as u32).map(|j| (0, j)).collect()
     } else {
@@ -304,8 +353,8 @@ fn detect(
             continue;
         }
         let is_corner = corner_a.get(i).copied().unwrap_or(true);
-        let u_prev = unit(sub(a[(i + na - 1) % na], p));
-        let u_next = unit(sub(a[(i + 1) % na], p));
+        let u_prev = unit(sub(a[la.prev(i)], p));
+        let u_next = unit(sub(a[la.next(i)], p));
         // Reflex vertices of A (beyond the fit tolerance) never touch an edge with their tip.
         let d_in = scale(u_prev, -1.0);
         if cross(d_in, u_next).atan2(dot(d_in, u_next)) < -prm.fit_angle {
@@ -347,7 +396,7 @@ fn detect(
         if cands.is_empty() || nearest.0 > reach {
             continue;
         }
-        let inside = is_inside(&seg, b, p, nearest);
+        let inside = is_inside(&seg, (b, lb), p, nearest);
         // a corner a hair outside B still touches a face it overlaps: rule 2's exception
         let overlap = is_corner && !inside && nearest.0 <= corner_tol;
         cands.retain(|c| {
@@ -393,12 +442,16 @@ fn exterior_direction(u_prev: Vec2, u_next: Vec2) -> Vec2 {
 
 /// Is `p` inside `B`, judged from its nearest boundary feature
 /// `(distance, segment, arc length of the nearest point)`?
-fn is_inside(seg: &Segments, b: &[Vec2], p: Vec2, nearest: (f64, usize, f64)) -> bool {
-    let nb = b.len();
+fn is_inside(
+    seg: &Segments,
+    (b, lb): (&[Vec2], Loops),
+    p: Vec2,
+    nearest: (f64, usize, f64),
+) -> bool {
     let (_, j, sc) = nearest;
     let l = seg.len[j];
     let (v, m) = if sc <= 0.0 {
-        let jp = (j + nb - 1) % nb;
+        let jp = lb.prev(j);
         (
             b[j],
             [
@@ -407,7 +460,7 @@ fn is_inside(seg: &Segments, b: &[Vec2], p: Vec2, nearest: (f64, usize, f64)) ->
             ],
         )
     } else if sc >= l {
-        let jn = (j + 1) % nb;
+        let jn = lb.next(j);
         (
             b[jn],
             [
@@ -638,7 +691,7 @@ mod tests {
     #[test]
     fn local_side_test_matches_point_in_polygon() {
         let b = l_shape();
-        let seg = Segments::new(&b);
+        let seg = Segments::new(&b, Loops::one(b.len()));
         let mut state = 12345u64;
         let mut rnd = || {
             state = state
@@ -658,7 +711,7 @@ mod tests {
                 }
             }
             assert_eq!(
-                is_inside(&seg, &b, p, nearest),
+                is_inside(&seg, (&b, Loops::one(b.len())), p, nearest),
                 crossing_inside(&b, p),
                 "at {p:?}"
             );
@@ -672,8 +725,23 @@ mod tests {
         assert!(b.len() > GRID_THRESHOLD);
         let (a, ca) = refined_rect(3.0, 1.0 + 1e-5, 7.05, 2.0, 17);
         let prm = NarrowParams::new(1e-3);
-        let fast = detect(&a, &b, &ca, &prm, true);
-        assert_eq!(fast, detect(&a, &b, &ca, &prm, false));
+        let fast = detect(
+            (&a, Loops::one(a.len())),
+            (&b, Loops::one(b.len())),
+            &ca,
+            &prm,
+            true,
+        );
+        assert_eq!(
+            fast,
+            detect(
+                (&a, Loops::one(a.len())),
+                (&b, Loops::one(b.len())),
+                &ca,
+                &prm,
+                false
+            )
+        );
         // Every vertex of A's bottom edge: 2 corners and 17 refined points.
         assert_eq!(fast.len(), 19);
         for v in &fast {
@@ -699,9 +767,34 @@ mod tests {
                     ]
                 })
                 .collect();
-            let g = detect(&moved, &b, &ca, &prm, true);
-            assert_eq!(g, detect(&moved, &b, &ca, &prm, false), "pose {k}");
-            assert_eq!(g, detect(&moved, &b, &ca, &prm, true));
+            let g = detect(
+                (&moved, Loops::one(moved.len())),
+                (&b, Loops::one(b.len())),
+                &ca,
+                &prm,
+                true,
+            );
+            assert_eq!(
+                g,
+                detect(
+                    (&moved, Loops::one(moved.len())),
+                    (&b, Loops::one(b.len())),
+                    &ca,
+                    &prm,
+                    false
+                ),
+                "pose {k}"
+            );
+            assert_eq!(
+                g,
+                detect(
+                    (&moved, Loops::one(moved.len())),
+                    (&b, Loops::one(b.len())),
+                    &ca,
+                    &prm,
+                    true
+                )
+            );
         }
     }
 }

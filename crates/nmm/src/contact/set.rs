@@ -62,7 +62,7 @@
 use super::broad::sweep_and_prune;
 use super::friction::{ContactStatus, FrictionParams, LawResponse};
 use super::law::{Branch, IterationContext, LawId, LawState};
-use super::narrow::{vertex_edge_contacts, VertexEdge};
+use super::narrow::{vertex_edge_contacts_loops, NarrowParams, VertexEdge};
 use super::restitution::DashpotTable;
 use crate::cover::basis::{ELEMENT_DOFS, MAX_ELEMENT_DOFS, NO_DOF};
 use crate::cover::{barycentric, Discretisation};
@@ -70,6 +70,7 @@ use crate::geometry::{cross, dot, norm, sub, Aabb, Vec2};
 use crate::model::Model;
 use std::collections::HashMap;
 
+mod insitu;
 mod saved;
 pub use saved::SavedContacts;
 
@@ -171,8 +172,12 @@ pub struct Contact {
     pub dofs: ContactRow<usize>,
     pub bn: ContactRow<f64>,
     pub bs: ContactRow<f64>,
-    /// Normal gap at the start of the step (negative: penetration).
+    /// Normal gap at the start of the step (negative: penetration; with in-situ stress the
+    /// offset of [`insitu`] included).
     pub gn0: f64,
+    /// Shear gap the contact starts its step with (the in-situ shear of a contact in the
+    /// first step, [`insitu`]; else 0).
+    pub gs0: f64,
     /// Length of interface this contact stands for (m): half its tributary length.
     pub weight: f64,
     /// The contact's springs and strength: the interface's per-length values × `weight`.
@@ -240,9 +245,14 @@ impl Contact {
     /// (g_N, Δg_S) at the increment `du`.
     #[inline(always)]
     pub fn gaps(&self, du: &[f64]) -> (f64, f64) {
-        match self.fixed_rows() {
+        let (gn, gs) = match self.fixed_rows() {
             Some((d, bn, bs)) => row_products(self.gn0, d, bn, bs, du),
             None => row_products(self.gn0, &self.dofs, &self.bn, &self.bs, du),
+        };
+        if self.gs0 != 0.0 {
+            (gn, gs + self.gs0)
+        } else {
+            (gn, gs)
         }
     }
 
@@ -344,6 +354,8 @@ pub struct ContactSet {
     step_dt: Option<f64>,
     /// The dashpot tables of the restitutions met so far.
     dashpot_tables: Vec<std::sync::Arc<DashpotTable>>,
+    /// In-situ stress and excavated blocks ([`insitu`]).
+    insitu: insitu::Insitu,
 }
 
 /// The energy balance of the contacts over one committed step (J per metre of thickness).
@@ -378,7 +390,16 @@ pub struct StepDissipation {
 fn step_dissipation(c: &Contact, gn: f64, gs: f64) -> StepDissipation {
     let r = &c.response;
     let p = &c.params;
-    let (tn0, ts0) = c.law.law().start_forces(p, &c.history, c.gn0);
+    // an in-situ shear gap is part of the springs' state at the step's start, not motion:
+    // the start forces are the law's response at (g_N⁰, g_S⁰) (elastic: the in-situ state
+    // is inside the strength)
+    let (tn0, ts0, gs) = if c.gs0 != 0.0 {
+        let s = c.law.law().response(p, &c.history, c.gn0, c.gs0);
+        (p.spring_normal(s.tn), s.ts, gs - c.gs0)
+    } else {
+        let (tn0, ts0) = c.law.law().start_forces(p, &c.history, c.gn0);
+        (tn0, ts0, gs)
+    };
     if r.status == ContactStatus::Open && tn0 == 0.0 && ts0 == 0.0 {
         return StepDissipation::default();
     }
@@ -418,6 +439,7 @@ impl Default for ContactSet {
             block_mass: Vec::new(),
             step_dt: None,
             dashpot_tables: Vec::new(),
+            insitu: Default::default(),
         }
     }
 }
@@ -437,6 +459,24 @@ fn status_code(s: ContactStatus) -> u8 {
         ContactStatus::Stick => 1,
         ContactStatus::Slide => 2,
     }
+}
+
+/// [`polygon_faces`] of each loop of a boundary of several loops (`loops`: the first
+/// vertex of each), as indices into the whole list.
+fn polygon_faces_of_loops(corner: &[bool], loops: &[usize]) -> Vec<(usize, usize)> {
+    if loops.len() <= 1 {
+        return polygon_faces(corner);
+    }
+    let mut out = Vec::with_capacity(corner.len());
+    for (k, &s) in loops.iter().enumerate() {
+        let e = loops.get(k + 1).copied().unwrap_or(corner.len());
+        out.extend(
+            polygon_faces(&corner[s..e])
+                .into_iter()
+                .map(|(a, b)| (a + s, b + s)),
+        );
+    }
+    out
 }
 
 /// For each segment of a refined boundary, the (first, last) vertex indices of the polygon
@@ -468,7 +508,7 @@ fn polygon_faces(corner: &[bool]) -> Vec<(usize, usize)> {
 /// that faces the segment (outward normals opposed), projected on t and clipped to the edge.
 #[allow(clippy::too_many_arguments)]
 fn tributary(
-    a: &[Vec2],
+    (a, loops): (&[Vec2], &[usize]),
     i: usize,
     share: f64,
     p0: Vec2,
@@ -481,9 +521,13 @@ fn tributary(
     let p = a[i];
     let sp = dot(sub(p, p0), t);
     let mut w = 0.0;
+    let (next, prev) = (
+        crate::geometry::region::loop_next(loops, m, i),
+        crate::geometry::region::loop_prev(loops, m, i),
+    );
     // segment i → i+1 (outward normal of a CCW edge: direction turned clockwise), and the
     // segment i−1 → i
-    for (q, from_p) in [(a[(i + 1) % m], true), (a[(i + m - 1) % m], false)] {
+    for (q, from_p) in [(a[next], true), (a[prev], false)] {
         let d = if from_p { sub(q, p) } else { sub(p, q) };
         let len = norm(d);
         if len == 0.0 {
@@ -537,7 +581,7 @@ impl ContactSet {
             for b in &disc.boundaries {
                 let m = b.vertices.len();
                 for i in 0..m {
-                    len += crate::geometry::dist(b.vertices[i].x0, b.vertices[(i + 1) % m].x0);
+                    len += crate::geometry::dist(b.vertices[i].x0, b.vertices[b.next(i)].x0);
                 }
                 count += b.vertices.iter().filter(|v| !v.midpoint).count();
             }
@@ -545,7 +589,12 @@ impl ContactSet {
             self.faces = disc
                 .boundaries
                 .iter()
-                .map(|b| polygon_faces(&b.vertices.iter().map(|v| v.corner).collect::<Vec<_>>()))
+                .map(|b| {
+                    polygon_faces_of_loops(
+                        &b.vertices.iter().map(|v| v.corner).collect::<Vec<_>>(),
+                        &b.loops,
+                    )
+                })
                 .collect();
         }
         // current boundary polylines
@@ -596,17 +645,26 @@ impl ContactSet {
             if model.blocks[a].fixed && model.blocks[b].fixed {
                 continue;
             }
+            if self.removed(a) || self.removed(b) {
+                continue;
+            }
             if !model.may_contact(a, b) {
                 continue;
             }
             for (pa, pb) in [(a, b), (b, a)] {
-                let mut found = vertex_edge_contacts(&polys[pa], &polys[pb], search, &corners[pa]);
+                let (la, lb) = (&disc.boundaries[pa].loops, &disc.boundaries[pb].loops);
+                let mut found = vertex_edge_contacts_loops(
+                    (&polys[pa], la),
+                    (&polys[pb], lb),
+                    &corners[pa],
+                    &NarrowParams::new(search),
+                );
                 if let Some(hs) = held.get(&(pa, pb)) {
                     for &(v, n_old) in hs {
                         if found.iter().any(|f| f.vertex == v) {
                             continue;
                         }
-                        if let Some(e) = held_edge(&polys[pa][v], &polys[pb], n_old, search) {
+                        if let Some(e) = held_edge(&polys[pa][v], (&polys[pb], lb), n_old, search) {
                             found.push(VertexEdge { vertex: v, ..e });
                         }
                     }
@@ -619,7 +677,7 @@ impl ContactSet {
                         // normal does not flip between steps (which pumps energy in).
                         if dot(*n_old, ve.normal) < 0.9 {
                             if let Some(kept) =
-                                keep_edge(&polys[pa][ve.vertex], &polys[pb], *n_old, search)
+                                keep_edge(&polys[pa][ve.vertex], (&polys[pb], lb), *n_old, search)
                             {
                                 ve = VertexEdge {
                                     vertex: ve.vertex,
@@ -635,7 +693,6 @@ impl ContactSet {
                         continue;
                     };
                     let pb_poly = &polys[pb];
-                    let nb = pb_poly.len();
                     let p0 = pb_poly[ve.segment];
                     let (f0, f1) = self.faces[pb][ve.segment];
                     let s_lo = dot(sub(pb_poly[f0], p0), ve.tangent);
@@ -649,7 +706,7 @@ impl ContactSet {
                         (true, true) => 2.0 / 3.0,
                     };
                     let lambda = tributary(
-                        &polys[pa],
+                        (&polys[pa], la),
                         ve.vertex,
                         share,
                         p0,
@@ -664,7 +721,11 @@ impl ContactSet {
                     }
                     let vert = &disc.boundaries[pa].vertices[ve.vertex];
                     let eb = disc.boundaries[pb].segment_elements[ve.segment];
-                    let q = crate::geometry::lerp(p0, pb_poly[(ve.segment + 1) % nb], ve.xi);
+                    let q = crate::geometry::lerp(
+                        p0,
+                        pb_poly[disc.boundaries[pb].next(ve.segment)],
+                        ve.xi,
+                    );
                     let wb = barycentric(&disc.elements[eb].nodes, q);
                     let wa = vert.at.weights;
                     let ea = &disc.elements[vert.at.element];
@@ -689,19 +750,41 @@ impl ContactSet {
                             }
                         }
                     }
+                    let (pn, ps) = (
+                        iface.normal_penalty * density * weight,
+                        iface.shear_penalty * density * weight,
+                    );
+                    // in-situ stress: the springs of a contact touching at the start carry σ₀·n
+                    let tol = self.touch_tol;
+                    let (offset, gs0) =
+                        self.insitu_offset(key, ve.gap, (pn, ps), (ve.normal, ve.tangent), |s| {
+                            insitu::force_on_vertex(
+                                (&polys[pa], la),
+                                ve.vertex,
+                                share,
+                                (&polys[pb], lb),
+                                s,
+                                tol,
+                            )
+                        });
+                    let gn0 = if offset != 0.0 {
+                        ve.gap + offset
+                    } else {
+                        ve.gap
+                    };
                     // the interface's own law, else the analysis'
                     let (law, own) = match &iface.law {
                         Some(l) => (l.law, l.law.law().own_constants(&l.values, weight)),
                         None => (model.analysis.friction, [0.0; 4]),
                     };
                     let params = FrictionParams {
-                        pn: iface.normal_penalty * density * weight,
-                        ps: iface.shear_penalty * density * weight,
+                        pn,
+                        ps,
                         tan_phi: iface.friction_angle.to_radians().tan(),
                         cohesion: iface.cohesion * weight,
                         // set by `apply_dashpots` once every contact of the step is known
                         dashpot: 0.0,
-                        gn0: ve.gap,
+                        gn0,
                         own,
                     };
                     // a contact new to this step that touches: the predictor holds it closed
@@ -716,14 +799,15 @@ impl ContactSet {
                         Some((l, h)) if l == law => h,
                         _ => law.law().new_state(touching, self.commits == 0),
                     };
-                    let response = law.law().response(&params, &history, ve.gap, 0.0);
+                    let response = law.law().response(&params, &history, gn0, gs0);
                     self.contacts.push(Contact {
                         key,
                         segment: ve.segment,
                         dofs,
                         bn,
                         bs,
-                        gn0: ve.gap,
+                        gn0,
+                        gs0,
                         weight,
                         params,
                         law,
@@ -1179,11 +1263,16 @@ pub fn uses_bonds(model: &Model) -> bool {
 /// `n_old` the contact had (within 0.99) nearest to `p`, whose strip, lengthened by
 /// `reach` at both ends, holds `p` within the gap range [−`reach`, `reach`] (the
 /// projection clamped to the segment).
-fn held_edge(p: &Vec2, b: &[Vec2], n_old: Vec2, reach: f64) -> Option<VertexEdge> {
+fn held_edge(
+    p: &Vec2,
+    (b, loops): (&[Vec2], &[usize]),
+    n_old: Vec2,
+    reach: f64,
+) -> Option<VertexEdge> {
     let m = b.len();
     let mut best: Option<(f64, VertexEdge)> = None;
     for j in 0..m {
-        let (a, q) = (b[j], b[(j + 1) % m]);
+        let (a, q) = (b[j], b[crate::geometry::region::loop_next(loops, m, j)]);
         let d = sub(q, a);
         let len = norm(d);
         if len == 0.0 {
@@ -1220,11 +1309,16 @@ fn held_edge(p: &Vec2, b: &[Vec2], n_old: Vec2, reach: f64) -> Option<VertexEdge
 
 /// The segment of `b` whose outward normal is (nearly) `n_old` and that still holds
 /// vertex `p` (projection within the segment, gap within [−search, search]).
-fn keep_edge(p: &Vec2, b: &[Vec2], n_old: Vec2, search: f64) -> Option<VertexEdge> {
+fn keep_edge(
+    p: &Vec2,
+    (b, loops): (&[Vec2], &[usize]),
+    n_old: Vec2,
+    search: f64,
+) -> Option<VertexEdge> {
     let m = b.len();
     let mut best: Option<VertexEdge> = None;
     for j in 0..m {
-        let (a, q) = (b[j], b[(j + 1) % m]);
+        let (a, q) = (b[j], b[crate::geometry::region::loop_next(loops, m, j)]);
         let d = sub(q, a);
         let len = norm(d);
         if len == 0.0 {
@@ -1265,16 +1359,16 @@ mod tests {
     fn keep_edge_follows_the_previous_normal_at_a_corner() {
         let b = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
         let corner = [1.0, 1.0 + 1e-6];
-        let top = keep_edge(&corner, &b, [0.0, 1.0], 1e-3).unwrap();
+        let top = keep_edge(&corner, (&b, &[]), [0.0, 1.0], 1e-3).unwrap();
         assert_eq!(top.segment, 2);
         assert_eq!(top.normal, [0.0, 1.0]);
         assert!((top.gap - 1e-6).abs() < 1e-12 && (top.xi - 0.0).abs() < 1e-12);
-        let side = keep_edge(&[1.0 + 1e-6, 1.0], &b, [1.0, 0.0], 1e-3).unwrap();
+        let side = keep_edge(&[1.0 + 1e-6, 1.0], (&b, &[]), [1.0, 0.0], 1e-3).unwrap();
         assert_eq!(side.segment, 1);
         assert!((side.gap - 1e-6).abs() < 1e-12);
         // beyond the search distance, or past the end of the edge: nothing kept
-        assert!(keep_edge(&[0.5, 1.1], &b, [0.0, 1.0], 1e-3).is_none());
-        assert!(keep_edge(&[1.5, 1.0], &b, [0.0, 1.0], 1e-3).is_none());
+        assert!(keep_edge(&[0.5, 1.1], (&b, &[]), [0.0, 1.0], 1e-3).is_none());
+        assert!(keep_edge(&[1.5, 1.0], (&b, &[]), [0.0, 1.0], 1e-3).is_none());
     }
 
     #[test]
@@ -1301,7 +1395,7 @@ mod tests {
         ];
         let (p0, t, n) = ([-1.0, 0.0], [1.0, 0.0], [0.0, 1.0]);
         let w: Vec<f64> = (0..4)
-            .map(|i| tributary(&a, i, 0.5, p0, t, n, -10.0, 10.0))
+            .map(|i| tributary((&a, &[]), i, 0.5, p0, t, n, -10.0, 10.0))
             .collect();
         // trapezoidal weights: half of each adjacent bottom segment; the sides face away
         let want = [0.15, 0.35, 0.35, 0.15];
@@ -1311,13 +1405,13 @@ mod tests {
         assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-15);
         // clipped to B's edge x ∈ [−1, 0.4] (s ∈ [0, 1.4]): vertex 1 keeps 0.1 of its
         // right half, vertex 2 nothing
-        let c = tributary(&a, 1, 0.5, p0, t, n, 0.0, 1.4);
+        let c = tributary((&a, &[]), 1, 0.5, p0, t, n, 0.0, 1.4);
         assert!((c - 0.25).abs() < 1e-15, "{c}");
-        assert_eq!(tributary(&a, 2, 0.5, p0, t, n, 0.0, 1.4), 0.0);
+        assert_eq!(tributary((&a, &[]), 2, 0.5, p0, t, n, 0.0, 1.4), 0.0);
         // a corner of a square rotated 45° touching a horizontal face: both halves project
         let s = std::f64::consts::FRAC_1_SQRT_2;
         let d = [[0.0, 0.0], [s, s], [0.0, 2.0 * s], [-s, s]];
-        let c = tributary(&d, 0, 0.5, p0, t, n, -10.0, 10.0);
+        let c = tributary((&d, &[]), 0, 0.5, p0, t, n, -10.0, 10.0);
         assert!((c - s).abs() < 1e-15, "{c}");
     }
 }

@@ -66,6 +66,36 @@ const EDGE_TOL: f64 = 1e-9;
 /// Pieces thinner than this (× h) are dropped (see the module docs).
 pub const MIN_PIECE_WIDTH: f64 = 1e-5;
 
+/// A block to discretise: its polygon (counter-clockwise), its holes (clockwise,
+/// strictly inside it: [`crate::geometry::region`]) and whether it is fixed.
+#[derive(Debug, Clone, Copy)]
+pub struct Shape<'a> {
+    pub outer: &'a [Vec2],
+    pub holes: &'a [Vec<Vec2>],
+    pub fixed: bool,
+}
+
+impl Shape<'_> {
+    /// The loops: the polygon, then the holes.
+    fn loops(&self) -> Vec<&[Vec2]> {
+        std::iter::once(self.outer)
+            .chain(self.holes.iter().map(|h| h.as_slice()))
+            .collect()
+    }
+}
+
+/// The shapes of blocks `(vertices, fixed)` without holes.
+fn plain(blocks: &[(Vec<Vec2>, bool)]) -> Vec<Shape<'_>> {
+    blocks
+        .iter()
+        .map(|(p, fixed)| Shape {
+            outer: p,
+            holes: &[],
+            fixed: *fixed,
+        })
+        .collect()
+}
+
 /// Discretise blocks `(vertices CCW, fixed)` with a mathematical mesh of size `h`
 /// covering all blocks (see [`MathMesh::covering`]).
 pub fn discretise(blocks: &[(Vec<Vec2>, bool)], h: f64) -> Result<Discretisation, DiscretiseError> {
@@ -88,13 +118,24 @@ pub fn discretise_with(
     origin: Option<Vec2>,
     basis: CoverBasis,
 ) -> Result<Discretisation, DiscretiseError> {
-    discretise_cracked(blocks, &[], h, origin, basis)
+    discretise_shapes(&plain(blocks), &[], h, origin, basis)
 }
 
 /// As [`discretise_with`], the covers split by `cracks` (traces ending inside their
 /// blocks, [`super::crack`]).
 pub fn discretise_cracked(
     blocks: &[(Vec<Vec2>, bool)],
+    cracks: &[CoverCrack],
+    h: f64,
+    origin: Option<Vec2>,
+    basis: CoverBasis,
+) -> Result<Discretisation, DiscretiseError> {
+    discretise_shapes(&plain(blocks), cracks, h, origin, basis)
+}
+
+/// As [`discretise_cracked`], for blocks that may have holes: the general entry.
+pub fn discretise_shapes(
+    blocks: &[Shape],
     cracks: &[CoverCrack],
     h: f64,
     origin: Option<Vec2>,
@@ -108,18 +149,18 @@ pub fn discretise_cracked(
     if blocks.is_empty() {
         return Err(DiscretiseError("no blocks to discretise".into()));
     }
-    for (b, (poly, _)) in blocks.iter().enumerate() {
-        validate_block(b, poly)?;
+    for (b, shape) in blocks.iter().enumerate() {
+        validate_shape(b, shape)?;
     }
     let bbox = blocks
         .iter()
-        .fold(Aabb::empty(), |acc, (p, _)| acc.merge(&Aabb::of_points(p)));
+        .fold(Aabb::empty(), |acc, s| acc.merge(&Aabb::of_points(s.outer)));
     let mesh = MathMesh::covering_through(&bbox, h, MAX_MESH_NODES, origin).ok_or_else(|| {
         DiscretiseError(format!(
             "mesh size h = {h} gives too many nodes for the model box (limit {MAX_MESH_NODES})"
         ))
     })?;
-    discretise_on_mesh_cracked(blocks, cracks, mesh, basis)
+    discretise_shapes_on_mesh(blocks, cracks, mesh, basis)
 }
 
 /// Discretise blocks on a given mathematical mesh (every block strictly inside the
@@ -137,7 +178,7 @@ pub fn discretise_on_mesh_with(
     mesh: MathMesh,
     basis: CoverBasis,
 ) -> Result<Discretisation, DiscretiseError> {
-    discretise_on_mesh_cracked(blocks, &[], mesh, basis)
+    discretise_shapes_on_mesh(&plain(blocks), &[], mesh, basis)
 }
 
 /// As [`discretise_on_mesh_with`], the covers split by `cracks` ([`super::crack`]).
@@ -147,12 +188,23 @@ pub fn discretise_on_mesh_cracked(
     mesh: MathMesh,
     basis: CoverBasis,
 ) -> Result<Discretisation, DiscretiseError> {
+    discretise_shapes_on_mesh(&plain(blocks), cracks, mesh, basis)
+}
+
+/// As [`discretise_on_mesh_cracked`], for blocks that may have holes.
+pub fn discretise_shapes_on_mesh(
+    blocks: &[Shape],
+    cracks: &[CoverCrack],
+    mesh: MathMesh,
+    basis: CoverBasis,
+) -> Result<Discretisation, DiscretiseError> {
     if !(mesh.h.is_finite() && mesh.h > 0.0 && mesh.nx > 0 && mesh.ny > 0) {
         return Err(DiscretiseError("invalid mathematical mesh".into()));
     }
     let mb = mesh.bbox();
-    for (b, (poly, _)) in blocks.iter().enumerate() {
-        validate_block(b, poly)?;
+    for (b, shape) in blocks.iter().enumerate() {
+        validate_shape(b, shape)?;
+        let poly = shape.outer;
         if poly.iter().any(|p| {
             !(p[0] > mb.min[0] && p[0] < mb.max[0] && p[1] > mb.min[1] && p[1] < mb.max[1])
         }) {
@@ -177,8 +229,8 @@ pub fn discretise_on_mesh_cracked(
     for c in cracks {
         validate_crack(c, blocks.len())?;
     }
-    for (b, (poly, _)) in blocks.iter().enumerate() {
-        build_block(&mut d, &clipper, b, poly, &Cracks::of_block(cracks, b))?;
+    for (b, shape) in blocks.iter().enumerate() {
+        build_block(&mut d, &clipper, b, shape, &Cracks::of_block(cracks, b))?;
     }
     if basis != CoverBasis::Constant {
         for bd in &mut d.boundaries {
@@ -187,7 +239,7 @@ pub fn discretise_on_mesh_cracked(
     }
     // Dof numbering: covers are already block by block, node by node; at order 1 less the
     // higher terms removed for linear dependence.
-    let fixed: Vec<bool> = blocks.iter().map(|b| b.1).collect();
+    let fixed: Vec<bool> = blocks.iter().map(|b| b.fixed).collect();
     let kept = match basis {
         CoverBasis::Constant => Vec::new(),
         CoverBasis::Linear => super::dependence::kept_terms(&d, &fixed).terms,
@@ -219,9 +271,10 @@ fn with_midpoints(elements: &[ManifoldElement], bd: &BlockBoundary) -> BlockBoun
         vertices: Vec::with_capacity(2 * m),
         segment_elements: Vec::with_capacity(2 * m),
         segment_edges: Vec::with_capacity(2 * m),
+        loops: bd.loops.iter().map(|s| 2 * s).collect(),
     };
     for i in 0..m {
-        let (v, next) = (bd.vertices[i], bd.vertices[(i + 1) % m]);
+        let (v, next) = (bd.vertices[i], bd.vertices[bd.next(i)]);
         let e = bd.segment_elements[i];
         let x = crate::geometry::lerp(v.x0, next.x0, 0.5);
         out.vertices.push(v);
@@ -240,6 +293,19 @@ fn with_midpoints(elements: &[ManifoldElement], bd: &BlockBoundary) -> BlockBoun
         }
     }
     out
+}
+
+/// Checks a block's polygon ([`validate_block`]) and its holes (clockwise simple polygons
+/// with finite coordinates).
+fn validate_shape(b: usize, shape: &Shape) -> Result<(), DiscretiseError> {
+    validate_block(b, shape.outer)?;
+    for (k, h) in shape.holes.iter().enumerate() {
+        let mut ccw = h.clone();
+        ccw.reverse();
+        validate_block(b, &ccw)
+            .map_err(|e| DiscretiseError(format!("{} (hole {k}, clockwise)", e.0)))?;
+    }
+    Ok(())
 }
 
 /// Checks that a crack names a block and has finite points.
@@ -447,35 +513,36 @@ fn build_block(
     d: &mut Discretisation,
     clipper: &Clipper,
     b: usize,
-    poly: &[Vec2],
+    shape: &Shape,
     cracks: &Cracks,
 ) -> Result<(), DiscretiseError> {
     let mesh = d.mesh.clone();
     let h = mesh.h;
+    let poly = shape.outer;
+    let loops = shape.loops();
     let bbox = Aabb::of_points(poly).inflate(EDGE_TOL * h);
     let (i0, i1, j0, j1) = mesh
         .square_range(&bbox)
         .ok_or_else(|| DiscretiseError(format!("block {b} misses the mesh")))?;
     let (w, hgt) = (i1 - i0 + 1, j1 - j0 + 1);
-    let n = poly.len();
-    // Grid coordinates of the block vertices.
-    let g: Vec<Vec2> = poly
+    // The block's edges (every loop's) in grid coordinates.
+    let grid = |p: &Vec2| [(p[0] - mesh.origin[0]) / h, (p[1] - mesh.origin[1]) / h];
+    let edges: Vec<(Vec2, Vec2)> = loops
         .iter()
-        .map(|p| [(p[0] - mesh.origin[0]) / h, (p[1] - mesh.origin[1]) / h])
+        .flat_map(|l| (0..l.len()).map(move |k| (grid(&l[k]), grid(&l[(k + 1) % l.len()]))))
         .collect();
 
     // 1. Rasterise the edges (and the cracks: their squares are cut by them).
     let range = SquareRange { i0, i1, j0, j1 };
     let mut marked = vec![false; w * hgt];
-    for k in 0..n {
-        range.rasterise(g[k], g[(k + 1) % n], &mut marked);
+    for &(p, q) in &edges {
+        range.rasterise(p, q, &mut marked);
     }
     let mut crack_marked = Vec::new();
     if !cracks.is_empty() {
         crack_marked = vec![false; w * hgt];
-        let grid = |p: Vec2| [(p[0] - mesh.origin[0]) / h, (p[1] - mesh.origin[1]) / h];
         for &(p, q) in cracks.segments() {
-            range.rasterise(grid(p), grid(q), &mut crack_marked);
+            range.rasterise(grid(&p), grid(&q), &mut crack_marked);
         }
         for (m, &c) in marked.iter_mut().zip(&crack_marked) {
             *m |= c;
@@ -500,8 +567,7 @@ fn build_block(
     for j in j0..=j1 {
         let yc = j as f64 + 0.5;
         crossings.clear();
-        for k in 0..n {
-            let (p, q) = (g[k], g[(k + 1) % n]);
+        for &(p, q) in &edges {
             if (p[1] <= yc) != (q[1] <= yc) {
                 crossings.push(p[0] + (yc - p[1]) / (q[1] - p[1]) * (q[0] - p[0]));
             }
@@ -530,7 +596,7 @@ fn build_block(
                     continue;
                 }
                 let pieces = clipper
-                    .clip_polygon_by_triangle(poly, &tri)
+                    .clip_loops_by_triangle(&loops, &tri)
                     .map_err(|e| DiscretiseError(format!("block {b}: {e}")))?;
                 let pieces = if is_cracked {
                     let mut split = Vec::new();
@@ -641,7 +707,7 @@ fn build_block(
     }
 
     // Refined boundary.
-    let boundary = refine_boundary(d, &map, b, poly)?;
+    let boundary = refine_boundary(d, &map, b, &loops)?;
     d.boundaries.push(boundary);
     Ok(())
 }
@@ -864,50 +930,57 @@ fn refine_boundary(
     d: &Discretisation,
     map: &TriMap,
     b: usize,
-    poly: &[Vec2],
+    loops: &[&[Vec2]],
 ) -> Result<BlockBoundary, DiscretiseError> {
     let mesh = &d.mesh;
     let h = mesh.h;
-    let n = poly.len();
-    let mut pts: Vec<(Vec2, bool)> = Vec::with_capacity(2 * n);
-    let mut segment_edges: Vec<usize> = Vec::with_capacity(2 * n);
+    let total: usize = loops.iter().map(|l| l.len()).sum();
+    let mut pts: Vec<(Vec2, bool)> = Vec::with_capacity(2 * total);
+    let mut segment_edges: Vec<usize> = Vec::with_capacity(2 * total);
+    let mut starts: Vec<usize> = Vec::with_capacity(loops.len());
     let mut ts: Vec<f64> = Vec::new();
-    for k in 0..n {
-        let (p, q) = (poly[k], poly[(k + 1) % n]);
-        pts.push((p, true));
-        segment_edges.push(k);
-        let len = crate::geometry::dist(p, q);
-        let gp = [(p[0] - mesh.origin[0]) / h, (p[1] - mesh.origin[1]) / h];
-        let gq = [(q[0] - mesh.origin[0]) / h, (q[1] - mesh.origin[1]) / h];
-        ts.clear();
-        for (f0, f1) in [
-            (gp[0], gq[0]),
-            (gp[1], gq[1]),
-            (gp[0] - gp[1], gq[0] - gq[1]),
-        ] {
-            if f0 == f1 {
-                continue;
-            }
-            let (lo, hi) = (f0.min(f1), f0.max(f1));
-            let mut m = lo.ceil();
-            while m <= hi {
-                let t = (m - f0) / (f1 - f0);
-                if t > 0.0 && t < 1.0 {
-                    ts.push(t);
+    let mut first_edge = 0;
+    for poly in loops {
+        starts.push(pts.len());
+        let n = poly.len();
+        for k in 0..n {
+            let (p, q) = (poly[k], poly[(k + 1) % n]);
+            pts.push((p, true));
+            segment_edges.push(first_edge + k);
+            let len = crate::geometry::dist(p, q);
+            let gp = [(p[0] - mesh.origin[0]) / h, (p[1] - mesh.origin[1]) / h];
+            let gq = [(q[0] - mesh.origin[0]) / h, (q[1] - mesh.origin[1]) / h];
+            ts.clear();
+            for (f0, f1) in [
+                (gp[0], gq[0]),
+                (gp[1], gq[1]),
+                (gp[0] - gp[1], gq[0] - gq[1]),
+            ] {
+                if f0 == f1 {
+                    continue;
                 }
-                m += 1.0;
+                let (lo, hi) = (f0.min(f1), f0.max(f1));
+                let mut m = lo.ceil();
+                while m <= hi {
+                    let t = (m - f0) / (f1 - f0);
+                    if t > 0.0 && t < 1.0 {
+                        ts.push(t);
+                    }
+                    m += 1.0;
+                }
+            }
+            ts.sort_by(f64::total_cmp);
+            let tol = EDGE_TOL * h;
+            let mut last = 0.0;
+            for &t in &ts {
+                if (t - last) * len > tol && (1.0 - t) * len > tol {
+                    pts.push((crate::geometry::lerp(p, q, t), false));
+                    segment_edges.push(first_edge + k);
+                    last = t;
+                }
             }
         }
-        ts.sort_by(f64::total_cmp);
-        let tol = EDGE_TOL * h;
-        let mut last = 0.0;
-        for &t in &ts {
-            if (t - last) * len > tol && (1.0 - t) * len > tol {
-                pts.push((crate::geometry::lerp(p, q, t), false));
-                segment_edges.push(k);
-                last = t;
-            }
-        }
+        first_edge += n;
     }
     let mut vertices = Vec::with_capacity(pts.len());
     for &(x, corner) in &pts {
@@ -927,7 +1000,8 @@ fn refine_boundary(
     let m = pts.len();
     let mut segment_elements = Vec::with_capacity(m);
     for i in 0..m {
-        let mid = crate::geometry::lerp(pts[i].0, pts[(i + 1) % m].0, 0.5);
+        let next = crate::geometry::region::loop_next(&starts, m, i);
+        let mid = crate::geometry::lerp(pts[i].0, pts[next].0, 0.5);
         let e = nearest_element(d, map, mid).ok_or_else(|| {
             DiscretiseError(format!("block {b}: no element at boundary point {mid:?}"))
         })?;
@@ -937,6 +1011,7 @@ fn refine_boundary(
         vertices,
         segment_elements,
         segment_edges,
+        loops: starts,
     })
 }
 

@@ -24,13 +24,14 @@ pub mod crack;
 pub mod dependence;
 mod locate;
 pub mod mesh;
+mod removal;
 pub mod stabilise;
 
 pub use basis::CoverBasis;
 pub use build::{
     discretise, discretise_cracked, discretise_on_mesh, discretise_on_mesh_cracked,
-    discretise_on_mesh_with, discretise_through, discretise_with, DiscretiseError, MAX_MESH_NODES,
-    MIN_PIECE_WIDTH,
+    discretise_on_mesh_with, discretise_shapes, discretise_shapes_on_mesh, discretise_through,
+    discretise_with, DiscretiseError, Shape, MAX_MESH_NODES, MIN_PIECE_WIDTH,
 };
 pub use crack::CoverCrack;
 pub use locate::{ElementIndex, LOCATE_TOL};
@@ -126,14 +127,34 @@ pub struct BoundaryVertex {
     pub midpoint: bool,
 }
 
-/// A block's boundary: CCW loop of refined vertices; segment i goes from vertex i
-/// to vertex i+1 (mod n), lies in element `segment_elements[i]` and is a part of the
-/// block polygon's edge `segment_edges[i]` (edge k joins polygon vertex k to k+1 mod n).
+/// A block's boundary: one or more loops of refined vertices, each with the material on
+/// its left — the outer loop counter-clockwise, then one clockwise loop per hole
+/// ([`crate::geometry::region`]) —, stored one after the other in `vertices`, loop `k`
+/// starting at `loops[k]`. Segment i goes from vertex i to the next vertex of its loop
+/// ([`BlockBoundary::next`]), lies in element `segment_elements[i]` and is a part of the
+/// block's edge `segment_edges[i]` (edges numbered over the loops as `Block::edge_joint`:
+/// edge k of the outer polygon joins its vertex k to k+1 mod n, then the holes' edges).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BlockBoundary {
     pub vertices: Vec<BoundaryVertex>,
     pub segment_elements: Vec<usize>,
     pub segment_edges: Vec<usize>,
+    /// First vertex of each loop (`[0]` for a block without holes).
+    pub loops: Vec<usize>,
+}
+
+impl BlockBoundary {
+    /// The vertex after `i` on its loop.
+    #[inline]
+    pub fn next(&self, i: usize) -> usize {
+        crate::geometry::region::loop_next(&self.loops, self.vertices.len(), i)
+    }
+
+    /// The vertex before `i` on its loop.
+    #[inline]
+    pub fn prev(&self, i: usize) -> usize {
+        crate::geometry::region::loop_prev(&self.loops, self.vertices.len(), i)
+    }
 }
 
 /// The NMM discretisation of a whole model.

@@ -33,6 +33,8 @@ pub enum ClipError {
     BadBox,
     #[error("point ({0}, {1}) is outside the clipper's box or not finite")]
     OutsideBox(f64, f64),
+    #[error("a hole of the block near ({0}, {1}) lies inside one triangle of the cover mesh: make [cover] size smaller than the hole")]
+    HoleInside(f64, f64),
 }
 
 /// A polygon clipper with one fixed float→integer transform (see the module doc).
@@ -112,16 +114,30 @@ impl Clipper {
         poly: &[Vec2],
         tri: &[Vec2; 3],
     ) -> Result<Vec<Vec<Vec2>>, ClipError> {
-        for p in poly.iter().chain(tri.iter()) {
+        self.clip_loops_by_triangle(&[poly], tri)
+    }
+
+    /// All connected pieces of `tri ∩ region`, the region bounded by `loops` (the outer
+    /// loop counter-clockwise, holes clockwise: [`super::region`]). A piece with a hole (a
+    /// hole of the region lying inside the triangle, touching none of its edges) is an
+    /// error: elements are simple polygons.
+    pub fn clip_loops_by_triangle(
+        &self,
+        loops: &[&[Vec2]],
+        tri: &[Vec2; 3],
+    ) -> Result<Vec<Vec<Vec2>>, ClipError> {
+        for p in loops.iter().flat_map(|l| l.iter()).chain(tri.iter()) {
             self.check(*p)?;
         }
-        if poly.len() < 3 {
+        if loops.first().is_none_or(|l| l.len() < 3) {
             return Ok(Vec::new());
         }
-        let mut overlay =
-            FloatOverlay::<Vec2, i64>::with_adapter(self.adapter.clone(), poly.len() + 3)
-                .unsafe_add_contour(tri, ShapeType::Subject)
-                .unsafe_add_contour(poly, ShapeType::Clip);
+        let total: usize = loops.iter().map(|l| l.len()).sum();
+        let mut overlay = FloatOverlay::<Vec2, i64>::with_adapter(self.adapter.clone(), total + 3)
+            .unsafe_add_contour(tri, ShapeType::Subject);
+        for l in loops {
+            overlay = overlay.unsafe_add_contour(l, ShapeType::Clip);
+        }
         let shapes = overlay.overlay(OverlayRule::Intersect, FillRule::NonZero);
 
         // Input vertices near the triangle, for snapping back.
@@ -129,17 +145,28 @@ impl Clipper {
         let near: Vec<Vec2> = tri
             .iter()
             .copied()
-            .chain(poly.iter().copied().filter(|p| point_in_box(*p, &tb)))
+            .chain(
+                loops
+                    .iter()
+                    .flat_map(|l| l.iter().copied())
+                    .filter(|p| point_in_box(*p, &tb)),
+            )
             .collect();
         let tol = 2.0 * self.grid_step();
 
         let mut out = Vec::with_capacity(shapes.len());
         for shape in shapes {
-            // shape[0] is the outer contour; holes cannot occur for a simple `poly`
-            // (see module doc), and are ignored if the input violates that contract.
-            let Some(outer) = shape.into_iter().next() else {
+            // shape[0] is the outer contour; a simple `poly` makes no holes (see module
+            // doc); a hole of the region inside the triangle does
+            let mut contours = shape.into_iter();
+            let Some(outer) = contours.next() else {
                 continue;
             };
+            if loops.len() > 1 {
+                if let Some(h) = contours.next().and_then(|h| h.first().copied()) {
+                    return Err(ClipError::HoleInside(h[0], h[1]));
+                }
+            }
             let mut piece: Vec<Vec2> = Vec::with_capacity(outer.len());
             for p in outer {
                 let q = near

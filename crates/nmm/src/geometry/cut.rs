@@ -62,6 +62,7 @@
 // `!(x > tol)` is deliberate throughout: a NaN fails the test.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 use super::polygon::{point_in_polygon, point_segment_distance, signed_area, Location};
+use super::region::Region;
 use super::{cross, dist, dot, lerp, sub, Aabb, Vec2};
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
@@ -73,13 +74,16 @@ pub struct Trace {
     pub joint: usize,
 }
 
-/// A piece of the cut polygon.
+/// A piece of the cut polygon: its outer loop and its holes ([`super::region`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Piece {
     /// Simple polygon, CCW.
     pub vertices: Vec<Vec2>,
-    /// Per edge (edge `i` joins vertex `i` to vertex `i + 1 mod n`): the joint whose
-    /// trace made it, or `None` for a part of the polygon's boundary.
+    /// Holes, each a simple polygon, clockwise (empty for most pieces).
+    pub holes: Vec<Vec<Vec2>>,
+    /// Per edge, over the loops in order (outer loop first, then each hole; edge `i` of a
+    /// loop joins its vertex `i` to vertex `i + 1 mod n`): the joint whose trace made it,
+    /// or `None` for a part of the polygon's boundary.
     pub edge_joint: Vec<Option<usize>>,
 }
 
@@ -373,10 +377,25 @@ pub fn cut_polygon(
     tol: f64,
     min_area: Option<f64>,
 ) -> Result<Cut, CutError> {
-    let n = poly.len();
+    cut_region(Region::simple(poly), traces, tol, min_area)
+}
+
+/// Cut a region (a simple CCW polygon with clockwise holes, [`super::region`]) by
+/// `traces`, as [`cut_polygon`] does a polygon (module doc; the holes' edges are boundary
+/// edges like the outer loop's).
+pub fn cut_region(
+    region: Region,
+    traces: &[Trace],
+    tol: f64,
+    min_area: Option<f64>,
+) -> Result<Cut, CutError> {
+    let poly = region.outer;
+    let n = region.edge_count();
+    let n_outer = poly.len();
     let whole = || Cut {
         pieces: vec![Piece {
             vertices: poly.to_vec(),
+            holes: region.holes.to_vec(),
             edge_joint: vec![None; n],
         }],
         cracks: Vec::new(),
@@ -390,20 +409,24 @@ pub fn cut_polygon(
     } else {
         1e-12 * bbox.diagonal()
     };
-    let area_p = signed_area(poly);
+    let area_p = region.area();
     let gbox = bbox.inflate(2.0 * tol);
 
-    // 1. points and segments
-    let mut pts: Vec<Vec2> = poly.to_vec();
-    let mut segs: Vec<Seg> = (0..n)
-        .map(|i| Seg {
-            a: poly[i],
-            b: poly[(i + 1) % n],
-            ends: [i as u32, ((i + 1) % n) as u32],
-            kind: Kind::Boundary(i as u32),
+    // 1. points and segments: the loops' corners first (ids 0..n), in loop order
+    let mut pts: Vec<Vec2> = region.loops().flatten().copied().collect();
+    let mut segs: Vec<Seg> = Vec::with_capacity(n);
+    let mut start = 0;
+    for l in region.loops() {
+        let m = l.len();
+        segs.extend((0..m).map(|i| Seg {
+            a: l[i],
+            b: l[(i + 1) % m],
+            ends: [(start + i) as u32, (start + (i + 1) % m) as u32],
+            kind: Kind::Boundary((start + i) as u32),
             stops: Vec::new(),
-        })
-        .collect();
+        }));
+        start += m;
+    }
     for (ti, t) in traces.iter().enumerate() {
         let mut prev: Option<u32> = None;
         for (k, &p) in t.points.iter().enumerate() {
@@ -593,7 +616,7 @@ pub fn cut_polygon(
             let mut alive = true;
             if let Kind::Trace(_) = s.kind {
                 let mid = lerp(pos[u as usize], pos[v as usize], 0.5);
-                alive = point_in_polygon(poly, mid, tol) == Location::Inside;
+                alive = region.locate(mid, tol) == Location::Inside;
             }
             if alive {
                 index.insert(key, edges.len() as u32);
@@ -623,13 +646,15 @@ pub fn cut_polygon(
             "the block's boundary does not close".into(),
         ));
     }
-    // 6. loops of traces that reach neither the boundary nor a trace that does
-    let (closed, islands) = remove_islands(&pos, &mut edges)?;
+    // 6. what would pinch a piece (loops hanging from the rest by one vertex or one
+    // edge); loops of traces that touch nothing else are kept: they cut out a piece
+    let (closed, islands, island_edges) = remove_islands(&pos, &mut edges, None)?;
     removed.extend(closed);
 
     // 7. faces
     let (mut fcs, face_of) = faces(&pos, &edges)?;
     check_faces(&pos, &edges, &fcs, &face_of)?;
+    let mut lay = layout(&pos, &edges, &fcs, n_outer, tol)?;
 
     // degree of every vertex in the pieces' boundaries before merging (a crack stops
     // where it meets one)
@@ -643,15 +668,16 @@ pub fn cut_polygon(
     let mut merged = Vec::new();
     let mut kept_small: Vec<(u32, f64, Vec2)> = Vec::new();
     if let Some(min) = min_area.filter(|&m| m > 0.0) {
-        let (merges, root_of, kept) = merge_small(&pos, &mut edges, &fcs, &face_of, min);
+        let (merges, root_of, kept) = merge_small(&pos, &mut edges, &fcs, &face_of, &lay, min);
         kept_small = kept;
         if !merges.is_empty() {
             // a merge may enclose a piece: it joins the piece around it (its faces go)
             let ghost = prune(nv, &mut edges);
             debug_assert!(ghost.is_empty());
-            let (_, enclosed) = remove_islands(&pos, &mut edges)?;
+            let (_, enclosed, _) = remove_islands(&pos, &mut edges, Some(&island_edges))?;
             let (f2, fo2) = faces(&pos, &edges)?;
             check_faces(&pos, &edges, &f2, &fo2)?;
+            lay = layout(&pos, &edges, &f2, n_outer, tol)?;
             // the final face of each merged piece, through a surviving half-edge of a member
             let mut final_of_root: HashMap<u32, u32> = HashMap::new();
             for (h, &nf) in fo2.iter().enumerate() {
@@ -682,11 +708,9 @@ pub fn cut_polygon(
     if !alive_trace {
         pieces.push((whole().pieces.remove(0), [0.0; 2], 0));
     } else {
-        for (fi, f) in fcs.iter().enumerate() {
-            let poly_f = face_polygon(&pos, &edges, f);
-            if !(signed_area(&poly_f) > 0.0) {
-                continue;
-            }
+        // a loop of the output: its vertices and the tag of the edge leaving each,
+        // without the removable vertices, starting at the lowest, then leftmost vertex
+        let ring_of = |f: &[u32]| -> (Vec<Vec2>, Vec<Option<usize>>) {
             let k = f.len();
             // (vertex, tag of the edge leaving it)
             let mut ring: Vec<(u32, Kind)> = f
@@ -724,17 +748,39 @@ pub fn cut_polygon(
                 .unwrap_or(0);
             ring.rotate_left(start);
             let vertices: Vec<Vec2> = ring.iter().map(|r| pos[r.0 as usize]).collect();
-            let edge_joint = ring
+            let tags = ring
                 .iter()
                 .map(|r| match r.1 {
                     Kind::Boundary(_) => None,
                     Kind::Trace(t) => Some(traces[t as usize].joint),
                 })
                 .collect();
-            let c = super::moments::polygon_moments(&vertices, vertices[0]).centroid();
+            (vertices, tags)
+        };
+        for (fi, f) in fcs.iter().enumerate() {
+            if !lay.material[fi] {
+                continue;
+            }
+            let (vertices, mut edge_joint) = ring_of(f);
+            let mut holes = Vec::with_capacity(lay.holes[fi].len());
+            for &hf in &lay.holes[fi] {
+                let (hv, ht) = ring_of(&fcs[hf as usize]);
+                holes.push(hv);
+                edge_joint.extend(ht);
+            }
+            let c = if holes.is_empty() {
+                super::moments::polygon_moments(&vertices, vertices[0]).centroid()
+            } else {
+                Region {
+                    outer: &vertices,
+                    holes: &holes,
+                }
+                .centroid()
+            };
             pieces.push((
                 Piece {
                     vertices,
+                    holes,
                     edge_joint,
                 },
                 c,
@@ -747,7 +793,16 @@ pub fn cut_polygon(
             let (kx, ky) = (((x.1[1] - y0) / tol).round(), ((y.1[1] - y0) / tol).round());
             kx.total_cmp(&ky).then(x.1[0].total_cmp(&y.1[0]))
         });
-        let total: f64 = pieces.iter().map(|p| signed_area(&p.0.vertices)).sum();
+        let total: f64 = pieces
+            .iter()
+            .map(|p| {
+                Region {
+                    outer: &p.0.vertices,
+                    holes: &p.0.holes,
+                }
+                .area()
+            })
+            .sum();
         if !((total - area_p).abs() <= 1e-6 * area_p.abs()) {
             return Err(CutError::Inconsistent(
                 bbox.min[0],
@@ -855,7 +910,12 @@ impl<'a> PieceIndex<'a> {
             if !(p[0] >= b.min[0] && p[0] <= b.max[0] && p[1] >= b.min[1] && p[1] <= b.max[1]) {
                 continue;
             }
-            match point_in_polygon(&self.pieces[i].vertices, p, self.tol) {
+            let piece = &self.pieces[i];
+            let region = Region {
+                outer: &piece.vertices,
+                holes: &piece.holes,
+            };
+            match region.locate(p, self.tol) {
                 Location::Inside => return i,
                 Location::Boundary => on = on.or(Some(i)),
                 Location::Outside => {}
@@ -865,7 +925,11 @@ impl<'a> PieceIndex<'a> {
             (0..self.pieces.len())
                 .map(|i| {
                     (
-                        super::polygon::boundary_distance(&self.pieces[i].vertices, p),
+                        Region {
+                            outer: &self.pieces[i].vertices,
+                            holes: &self.pieces[i].holes,
+                        }
+                        .boundary_distance(p),
                         i,
                     )
                 })
@@ -875,20 +939,31 @@ impl<'a> PieceIndex<'a> {
     }
 }
 
-/// Exactly one face of negative area (the outline) and no edge with the same face on
-/// both sides (what [`remove_islands`] leaves).
+/// One face of negative area per connected component of the alive edges (its outline;
+/// one component without holes or islands) and no edge with the same face on both sides
+/// (what [`remove_islands`] leaves).
 fn check_faces(
     pos: &[Vec2],
     edges: &[Edge],
     fcs: &[Vec<u32>],
     face_of: &[u32],
 ) -> Result<(), CutError> {
+    let mut dsu = Dsu::new(pos.len());
+    let mut used = vec![false; pos.len()];
+    for ed in edges.iter().filter(|e| e.alive) {
+        dsu.union(ed.v[0], ed.v[1]);
+        used[ed.v[0] as usize] = true;
+        used[ed.v[1] as usize] = true;
+    }
+    let components = (0..pos.len() as u32)
+        .filter(|&v| used[v as usize] && dsu.find(v) == v)
+        .count();
     let mut outer = 0;
     for f in fcs {
         let poly = face_polygon(pos, edges, f);
         if !(signed_area(&poly) > 0.0) {
             outer += 1;
-            if outer > 1 {
+            if outer > components {
                 let p = poly.first().copied().unwrap_or([0.0; 2]);
                 return Err(CutError::Inconsistent(
                     p[0],
@@ -909,6 +984,66 @@ fn check_faces(
         }
     }
     Ok(())
+}
+
+/// Which faces are pieces, and the holes of each.
+struct Layout {
+    /// Per face: a piece of material (positive area, and every edge of the region's
+    /// boundary on it run in the boundary's own direction: the material on its left).
+    /// A positive face that runs a boundary edge backwards is a hole of the region.
+    material: Vec<bool>,
+    /// Per face: the faces that are its holes — the outlines (negative faces) of the
+    /// components that lie inside it, touching nothing else: a hole of the region that no
+    /// trace reaches, or a loop of traces (which cuts out the pieces inside it).
+    holes: Vec<Vec<u32>>,
+}
+
+/// The [`Layout`] of the faces `fcs` of the alive edges; `n_outer`: the edges of the
+/// region's outer loop are `Boundary(0..n_outer)`.
+fn layout(
+    pos: &[Vec2],
+    edges: &[Edge],
+    fcs: &[Vec<u32>],
+    n_outer: usize,
+    tol: f64,
+) -> Result<Layout, CutError> {
+    let polys: Vec<Vec<Vec2>> = fcs.iter().map(|f| face_polygon(pos, edges, f)).collect();
+    let area: Vec<f64> = polys.iter().map(|p| signed_area(p)).collect();
+    let mut out = Layout {
+        material: vec![false; fcs.len()],
+        holes: vec![Vec::new(); fcs.len()],
+    };
+    let mut rings = Vec::new();
+    for (fi, f) in fcs.iter().enumerate() {
+        let kinds = f.iter().map(|&h| (h, edges[(h / 2) as usize].kind));
+        if area[fi] > 0.0 {
+            out.material[fi] = kinds
+                .clone()
+                .all(|(h, k)| !matches!(k, Kind::Boundary(_)) || h % 2 == 0);
+        } else {
+            let outline = kinds
+                .clone()
+                .any(|(_, k)| matches!(k, Kind::Boundary(g) if (g as usize) < n_outer));
+            if !outline {
+                rings.push(fi);
+            }
+        }
+    }
+    for fi in rings {
+        let p = polys[fi][0];
+        let inside = (0..fcs.len())
+            .filter(|&g| out.material[g] && point_in_polygon(&polys[g], p, tol) == Location::Inside)
+            .min_by(|&a, &b| area[a].total_cmp(&area[b]));
+        let Some(g) = inside else {
+            return Err(CutError::Inconsistent(
+                p[0],
+                p[1],
+                "a closed loop lies in no piece".into(),
+            ));
+        };
+        out.holes[g].push(fi as u32);
+    }
+    Ok(out)
 }
 
 /// The biconnected component of every alive edge (`u32::MAX` for dead edges), by
@@ -976,45 +1111,98 @@ fn biconnected(nv: usize, edges: &[Edge]) -> Vec<u32> {
     comp
 }
 
-/// Remove what would leave a piece that is not a simple polygon: every edge outside the
-/// biconnected component of the outline (bridges, loops hanging from one vertex, loops
-/// touching nothing). On a biconnected plane graph every face is bounded by one simple
-/// cycle. Returns the removed edges and, per region they enclose (a bounded face of the
-/// removed edges), (area, centroid).
+/// Remove what would pinch a piece: every alive edge outside the biconnected components
+/// that hold a loop of the region's boundary (bridges, loops hanging from one vertex).
+/// A biconnected component of traces alone that shares no vertex with another cycle (a
+/// loop of traces touching nothing else) is kept — it cuts out the pieces inside it —
+/// when `islands` is `None`; with `islands` (the edges kept so on the first call), only
+/// the components made of those edges are (a loop that merging cut free goes). On a
+/// biconnected plane graph every face is bounded by one simple cycle. Returns the removed
+/// edges, per region they enclose (a bounded face of the removed edges) its (area,
+/// centroid), and the flags of the edges kept as such loops.
 #[allow(clippy::type_complexity)]
 fn remove_islands(
     pos: &[Vec2],
     edges: &mut [Edge],
-) -> Result<(Vec<u32>, Vec<(f64, Vec2)>), CutError> {
+    islands: Option<&[bool]>,
+) -> Result<(Vec<u32>, Vec<(f64, Vec2)>, Vec<bool>), CutError> {
     let comp = biconnected(pos.len(), edges);
-    let Some(main) = edges
+    let mut flags = vec![false; edges.len()];
+    if !edges
         .iter()
-        .position(|e| e.alive && matches!(e.kind, Kind::Boundary(_)))
-        .map(|e| comp[e])
-    else {
-        return Ok((Vec::new(), Vec::new()));
-    };
-    let out: Vec<u32> = (0..edges.len() as u32)
-        .filter(|&e| edges[e as usize].alive && comp[e as usize] != main)
+        .any(|e| e.alive && matches!(e.kind, Kind::Boundary(_)))
+    {
+        return Ok((Vec::new(), Vec::new(), flags));
+    }
+    let nc = edges
+        .iter()
+        .zip(&comp)
+        .filter(|(e, _)| e.alive)
+        .map(|(_, &c)| c as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let (mut size, mut boundary, mut flagged) = (vec![0usize; nc], vec![false; nc], vec![true; nc]);
+    for (e, ed) in edges.iter().enumerate() {
+        if ed.alive {
+            let c = comp[e] as usize;
+            size[c] += 1;
+            boundary[c] |= matches!(ed.kind, Kind::Boundary(_));
+            flagged[c] &= islands.is_some_and(|f| f[e]);
+        }
+    }
+    // cycles (components of two edges or more) that share a vertex with another cycle
+    let mut first_at = vec![u32::MAX; pos.len()];
+    let mut shared = vec![false; nc];
+    for (e, ed) in edges.iter().enumerate() {
+        let c = comp[e];
+        if !ed.alive || size[c as usize] < 2 {
+            continue;
+        }
+        for &v in &ed.v {
+            let f = &mut first_at[v as usize];
+            if *f == u32::MAX {
+                *f = c;
+            } else if *f != c {
+                shared[c as usize] = true;
+                shared[*f as usize] = true;
+            }
+        }
+    }
+    let keep: Vec<bool> = (0..nc)
+        .map(|c| {
+            size[c] >= 2
+                && (boundary[c]
+                    || match islands {
+                        None => !shared[c],
+                        Some(_) => flagged[c],
+                    })
+        })
         .collect();
+    let out: Vec<u32> = (0..edges.len() as u32)
+        .filter(|&e| edges[e as usize].alive && !keep[comp[e as usize] as usize])
+        .collect();
+    for (e, ed) in edges.iter().enumerate() {
+        let c = comp[e] as usize;
+        flags[e] = ed.alive && keep[c] && !boundary[c];
+    }
     if out.is_empty() {
-        return Ok((out, Vec::new()));
+        return Ok((out, Vec::new(), flags));
     }
     let mut sub: Vec<Edge> = edges.iter().map(|e| Edge { alive: false, ..*e }).collect();
     for &e in &out {
         sub[e as usize].alive = true;
         edges[e as usize].alive = false;
     }
-    let mut islands = Vec::new();
+    let mut enclosed = Vec::new();
     let (fs, _) = faces(pos, &sub)?;
     for f in &fs {
         let p = face_polygon(pos, &sub, f);
         let a = signed_area(&p);
         if a > 0.0 {
-            islands.push((a, super::moments::polygon_moments(&p, p[0]).centroid()));
+            enclosed.push((a, super::moments::polygon_moments(&p, p[0]).centroid()));
         }
     }
-    Ok((out, islands))
+    Ok((out, enclosed, flags))
 }
 
 /// What [`merge_small`] returns: (root face merged into, area, centroid) per merge, the
@@ -1031,6 +1219,7 @@ fn merge_small(
     edges: &mut [Edge],
     fcs: &[Vec<u32>],
     face_of: &[u32],
+    lay: &Layout,
     min: f64,
 ) -> Merged {
     let nf = fcs.len();
@@ -1045,20 +1234,47 @@ fn merge_small(
     let mut kept = Vec::new();
     let mut bridging: Vec<(usize, u32)> = Vec::new();
     let polys: Vec<Vec<Vec2>> = fcs.iter().map(|f| face_polygon(pos, edges, f)).collect();
-    let mut area: Vec<f64> = polys.iter().map(|p| signed_area(p)).collect();
-    let piece: Vec<bool> = area.iter().map(|&a| a > 0.0).collect();
+    let piece: Vec<bool> = lay.material.clone();
+    // a piece's area and first moment less its holes' (negative faces: negative area)
+    let mut area: Vec<f64> = polys
+        .iter()
+        .enumerate()
+        .map(|(f, p)| {
+            if piece[f] {
+                signed_area(p)
+                    + lay.holes[f]
+                        .iter()
+                        .map(|&h| signed_area(&polys[h as usize]))
+                        .sum::<f64>()
+            } else {
+                signed_area(p)
+            }
+        })
+        .collect();
     if piece.iter().filter(|&&p| p).count() < 2 {
         return (Vec::new(), (0..nf as u32).collect(), Vec::new());
     }
     let mut moment: Vec<Vec2> = polys
         .iter()
-        .zip(&area)
-        .map(|(p, &a)| {
-            if a > 0.0 {
+        .enumerate()
+        .map(|(f, p)| {
+            if !piece[f] {
+                [0.0; 2]
+            } else if lay.holes[f].is_empty() {
+                let a = area[f];
                 let c = super::moments::polygon_moments(p, p[0]).centroid();
                 [c[0] * a, c[1] * a]
             } else {
-                [0.0; 2]
+                let holes: Vec<Vec<Vec2>> = lay.holes[f]
+                    .iter()
+                    .map(|&h| polys[h as usize].clone())
+                    .collect();
+                let c = Region {
+                    outer: p,
+                    holes: &holes,
+                }
+                .centroid();
+                [c[0] * area[f], c[1] * area[f]]
             }
         })
         .collect();
@@ -1389,8 +1605,9 @@ mod tests {
     }
 
     #[test]
-    fn an_enclosed_loop_is_a_closed_crack() {
-        // a square loop inside, and one hanging from the boundary by a single trace
+    fn a_closed_loop_cuts_out_its_piece() {
+        // a square loop inside, and one hanging from the boundary by a single trace: each
+        // cuts out its square, and the piece around them has two holes; the stem is a crack
         let p = rect(0.0, 0.0, 6.0, 4.0);
         let sq = Trace {
             points: vec![[1.0, 1.0], [2.0, 1.0], [2.0, 2.0], [1.0, 2.0], [1.0, 1.0]],
@@ -1402,26 +1619,148 @@ mod tests {
         };
         let stem = line([4.5, 2.0], [4.5, 5.0], 2);
         let c = cut_polygon(&p, &[sq, hanging, stem], 1e-9, None).unwrap();
+        assert_eq!(c.pieces.len(), 3);
+        assert!(c.enclosed.is_empty());
+        // by centroid: the rock (y = 2), then the squares left to right (y = 1.5 < 2)
+        let (left, right, rock) = (&c.pieces[0], &c.pieces[1], &c.pieces[2]);
+        assert_eq!(rock.vertices, p);
+        assert_eq!(rock.holes.len(), 2);
+        let area = |q: &Piece| {
+            Region {
+                outer: &q.vertices,
+                holes: &q.holes,
+            }
+            .area()
+        };
+        assert!((area(rock) - 22.0).abs() < 1e-12);
+        assert!(rock.holes.iter().all(|h| signed_area(h) < 0.0));
+        assert_eq!(&rock.edge_joint[..4], &[None; 4]);
+        assert_eq!(rock.edge_joint.len(), 12);
+        let mut tags: Vec<Option<usize>> = rock.edge_joint[4..].to_vec();
+        tags.sort();
+        assert_eq!(tags, [[Some(0); 4], [Some(1); 4]].concat());
+        for (q, j, x) in [(left, 0, 1.5), (right, 1, 4.5)] {
+            assert!((area(q) - 1.0).abs() < 1e-12 && q.holes.is_empty());
+            assert!(q.edge_joint.iter().all(|&t| t == Some(j)));
+            let c = crate::geometry::moments::polygon_moments(&q.vertices, q.vertices[0]);
+            assert!((c.centroid()[0] - x).abs() < 1e-12);
+        }
+        // the stem is the only crack, from the loop to the boundary, in the rock
+        assert_eq!(c.cracks.len(), 1);
+        assert_eq!((c.cracks[0].joint, c.cracks[0].piece), (2, 2));
+        let crack_length: f64 = c.cracks[0]
+            .points
+            .windows(2)
+            .map(|w| dist(w[0], w[1]))
+            .sum();
+        assert!((crack_length - 2.0).abs() < 1e-12, "{crack_length}");
+    }
+
+    #[test]
+    fn a_pinched_loop_is_a_closed_crack() {
+        // a loop touching the boundary at one point, and two loops touching each other at
+        // one point: none can be a piece (it would pinch the piece around it)
+        let p = rect(0.0, 0.0, 6.0, 4.0);
+        let touching = Trace {
+            points: vec![[1.0, 0.0], [2.0, 1.0], [1.0, 2.0], [0.5, 1.0], [1.0, 0.0]],
+            joint: 0,
+        };
+        let a = Trace {
+            points: vec![[3.0, 1.0], [4.0, 1.0], [4.0, 2.0], [3.0, 2.0], [3.0, 1.0]],
+            joint: 1,
+        };
+        let b = Trace {
+            points: vec![[4.0, 2.0], [5.0, 2.0], [5.0, 3.0], [4.0, 3.0], [4.0, 2.0]],
+            joint: 1,
+        };
+        let c = cut_polygon(&p, &[touching, a, b], 1e-9, None).unwrap();
         assert_eq!(c.pieces.len(), 1);
         assert_eq!(c.pieces[0].vertices, p);
-        assert_eq!(c.enclosed.len(), 2);
-        for e in &c.enclosed {
-            assert!((e.area - 1.0).abs() < 1e-12);
-            assert_eq!(e.into, 0);
-        }
-        let mut at: Vec<Vec2> = c.enclosed.iter().map(|e| e.centroid).collect();
-        at.sort_by(|a, b| a[0].total_cmp(&b[0]));
-        assert!((at[0][0] - 1.5).abs() < 1e-12 && (at[1][0] - 4.5).abs() < 1e-12);
-        // the loops and the stem are cracks
-        assert!(c.cracks.iter().any(|k| k.joint == 0));
-        assert!(c.cracks.iter().any(|k| k.joint == 1));
-        assert!(c.cracks.iter().any(|k| k.joint == 2));
+        assert!(c.pieces[0].holes.is_empty());
+        assert_eq!(c.enclosed.len(), 3);
+        assert!(c.enclosed.iter().all(|e| e.into == 0));
         let crack_length: f64 = c
             .cracks
             .iter()
             .map(|k| k.points.windows(2).map(|w| dist(w[0], w[1])).sum::<f64>())
             .sum();
-        assert!((crack_length - 10.0).abs() < 1e-12, "{crack_length}");
+        let diamond = 2.0 * (2f64.sqrt() + 1.25f64.sqrt());
+        assert!(
+            (crack_length - diamond - 8.0).abs() < 1e-12,
+            "{crack_length}"
+        );
+    }
+
+    #[test]
+    fn a_region_with_a_hole_is_cut_around_it() {
+        // a rectangle with a square hole: a line through the hole splits it in two C-shaped
+        // pieces (no hole); a line beside the hole leaves the hole in one piece
+        let p = rect(0.0, 0.0, 6.0, 4.0);
+        let mut hole = rect(2.0, 1.0, 4.0, 3.0);
+        hole.reverse();
+        let holes = vec![hole];
+        let region = Region {
+            outer: &p,
+            holes: &holes,
+        };
+        let through = line([-1.0, 2.0], [7.0, 2.0], 0);
+        let c = cut_region(region, &[through], 1e-9, None).unwrap();
+        assert_eq!(c.pieces.len(), 2);
+        for q in &c.pieces {
+            assert!(q.holes.is_empty());
+            assert!((signed_area(&q.vertices) - 10.0).abs() < 1e-12);
+            assert_eq!(q.edge_joint.iter().filter(|t| t.is_some()).count(), 2);
+        }
+        let beside = line([1.0, -1.0], [1.0, 5.0], 0);
+        let c = cut_region(region, &[beside], 1e-9, None).unwrap();
+        assert_eq!(c.pieces.len(), 2);
+        let (left, right) = (&c.pieces[0], &c.pieces[1]);
+        assert!(left.holes.is_empty() && (signed_area(&left.vertices) - 4.0).abs() < 1e-12);
+        assert_eq!(right.holes.len(), 1);
+        assert!((signed_area(&right.vertices) - 20.0).abs() < 1e-12);
+        assert!((signed_area(&right.holes[0]) + 4.0).abs() < 1e-12);
+        assert_eq!(right.edge_joint.len(), 8);
+        assert!(right.edge_joint[4..].iter().all(Option::is_none));
+        // a trace inside the hole is no trace; one from the wall into the rock is a crack
+        let inside = line([2.5, 1.5], [3.5, 2.5], 0);
+        let spur = line([4.0, 2.0], [5.0, 2.0], 1);
+        let c = cut_region(region, &[inside, spur], 1e-9, None).unwrap();
+        assert_eq!(c.pieces.len(), 1);
+        assert_eq!(c.pieces[0].holes, holes);
+        assert_eq!(c.cracks.len(), 1);
+        assert_eq!(c.cracks[0].joint, 1);
+        // a loop around the hole cuts out a ring with the hole in it
+        let ring = Trace {
+            points: vec![[1.0, 0.5], [5.0, 0.5], [5.0, 3.5], [1.0, 3.5], [1.0, 0.5]],
+            joint: 2,
+        };
+        let c = cut_region(region, &[ring], 1e-9, None).unwrap();
+        assert_eq!(c.pieces.len(), 2);
+        let areas: Vec<f64> = c
+            .pieces
+            .iter()
+            .map(|q| {
+                Region {
+                    outer: &q.vertices,
+                    holes: &q.holes,
+                }
+                .area()
+            })
+            .collect();
+        let total: f64 = areas.iter().sum();
+        assert!((total - 20.0).abs() < 1e-12, "{areas:?}");
+        let inner = c
+            .pieces
+            .iter()
+            .position(|q| q.edge_joint[0].is_some())
+            .unwrap();
+        assert!((areas[inner] - 8.0).abs() < 1e-12);
+        // the hole as given, starting at its lowest, then leftmost corner
+        assert_eq!(
+            c.pieces[inner].holes,
+            [[[2.0, 1.0], [2.0, 3.0], [4.0, 3.0], [4.0, 1.0]]]
+        );
+        assert_eq!(c.pieces[1 - inner].holes.len(), 1);
     }
 
     #[test]

@@ -10,6 +10,7 @@ pub mod clip;
 pub mod cut;
 pub mod moments;
 pub mod polygon;
+pub mod region;
 
 /// Shapes shared by the unit tests of several modules.
 #[cfg(test)]

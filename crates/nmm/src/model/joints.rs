@@ -14,8 +14,11 @@
 //! named `NAME.1`, `NAME.2`, … by centroid, bottom to top, then left to right (see
 //! [`crate::geometry::cut`]); they take the block's place in the block list. A block that
 //! is not split keeps its name (traces ending inside it are cracks). A loop of traces
-//! that reaches no boundary is a closed crack: the region it encloses stays part of the
-//! block around it and is listed in `Model::enclosed`. Joint ids are the sets in file
+//! that touches nothing else cuts out the pieces inside it (the piece around them gets a
+//! hole); one that would pinch the piece around it (hanging from the rest by one vertex)
+//! is a closed crack: the region it encloses stays part of the block around it and is
+//! listed in `Model::enclosed`. A block with holes is cut the same way (its holes' edges
+//! are boundary edges). Joint ids are the sets in file
 //! order, then the joints in file order.
 //!
 //! **Thin pieces.** A piece whose width 2A/P is below [`MIN_PIECE_WIDTH`] × h is refused
@@ -36,7 +39,7 @@ use super::reader::{
     array, array_of_tables, error, fmt_num, number, point, points, string, Fields, R,
 };
 use super::{Block, Crack, Joint, JointKind, MergedPiece};
-use crate::geometry::cut::{cut_polygon, Trace};
+use crate::geometry::cut::{cut_region, Trace};
 use crate::geometry::polygon::{degeneracy, self_intersection};
 use crate::geometry::{dist, dot, Aabb, Vec2};
 use std::collections::HashMap;
@@ -417,7 +420,7 @@ pub(crate) fn cut(
             traces_for(&specs[j].joint, j, &block.vertices, tol, &mut traces);
         }
         let at = root.at("block", Some(bi), Some("vertices"));
-        let c = cut_polygon(&block.vertices, &traces, tol, min_area).map_err(|e| {
+        let c = cut_region(block.region(), &traces, tol, min_area).map_err(|e| {
             error(format!(
                 "[[block]] {:?}: key `vertices`: cutting by the joints: {e}{at}",
                 block.name
@@ -443,11 +446,19 @@ pub(crate) fn cut(
             }
         }
         for (k, p) in c.pieces.iter().enumerate() {
+            let region = crate::geometry::region::Region {
+                outer: &p.vertices,
+                holes: &p.holes,
+            };
             if split {
-                let area = crate::geometry::polygon::signed_area(&p.vertices);
-                let n = p.vertices.len();
-                let perimeter: f64 = (0..n)
-                    .map(|i| dist(p.vertices[i], p.vertices[(i + 1) % n]))
+                let area = region.area();
+                let perimeter: f64 = region
+                    .loops()
+                    .map(|l| {
+                        (0..l.len())
+                            .map(|i| dist(l[i], l[(i + 1) % l.len()]))
+                            .sum::<f64>()
+                    })
                     .sum();
                 let width = 2.0 * area / perimeter;
                 if !(width >= MIN_PIECE_WIDTH * h) {
@@ -458,8 +469,9 @@ pub(crate) fn cut(
                     )));
                 }
             }
-            let bad = degeneracy(&p.vertices, tol).is_some()
-                || self_intersection(&p.vertices, tol).is_some();
+            let bad = region
+                .loops()
+                .any(|l| degeneracy(l, tol).is_some() || self_intersection(l, tol).is_some());
             if bad {
                 let q = p.vertices[0];
                 return Err(error(format!(
@@ -480,6 +492,7 @@ pub(crate) fn cut(
                 fixed: block.fixed,
                 edge_joint: p.edge_joint.clone(),
                 parent: split.then(|| block.name.clone()),
+                holes: p.holes.clone(),
             });
         }
         out.pieces_of.push((first..out.blocks.len()).collect());

@@ -19,6 +19,7 @@
 //! penalty far from E) gets one-line [`warnings`], never an error.
 
 mod bolts;
+mod insitu;
 mod joints;
 mod lines;
 mod reader;

@@ -111,6 +111,56 @@ pub struct Block {
     pub edge_joint: Vec<Option<usize>>,
     /// For a piece of a cut block: the name of the `[[block]]` it was cut from.
     pub parent: Option<String>,
+    /// Holes (`[[block]] holes`, or left by a closed loop of joint traces that cut out the
+    /// pieces inside it): simple polygons, clockwise (the material on the left of every
+    /// loop, [`crate::geometry::region`]). `edge_joint` goes on over their edges, hole after
+    /// hole, after the outer polygon's.
+    pub holes: Vec<Vec<Vec2>>,
+}
+
+impl Block {
+    /// The block as a region: its polygon and its holes.
+    pub fn region(&self) -> crate::geometry::region::Region<'_> {
+        crate::geometry::region::Region {
+            outer: &self.vertices,
+            holes: &self.holes,
+        }
+    }
+
+    /// The edges (a, b) over all loops, in the order of `edge_joint`.
+    pub fn edges(&self) -> impl Iterator<Item = (Vec2, Vec2)> + '_ {
+        self.region()
+            .loops()
+            .flat_map(|l| (0..l.len()).map(move |k| (l[k], l[(k + 1) % l.len()])))
+    }
+
+    /// Area, m² (the holes' taken out).
+    pub fn area(&self) -> f64 {
+        if self.holes.is_empty() {
+            crate::geometry::polygon::signed_area(&self.vertices)
+        } else {
+            self.region().area()
+        }
+    }
+}
+
+/// `[initial_stress]`: the stress of every block before the first step (tension
+/// positive, as in the VTK output), σ(y) = `stress` + (y − `y_ref`) `gradient`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InitialStress {
+    /// [σxx, σyy, τxy] at y = `y_ref`, Pa.
+    pub stress: [f64; 3],
+    /// d[σxx, σyy, τxy]/dy, Pa/m.
+    pub gradient: [f64; 3],
+    pub y_ref: f64,
+}
+
+impl InitialStress {
+    /// [σxx, σyy, τxy] at height `y`.
+    pub fn at(&self, y: f64) -> [f64; 3] {
+        let dy = y - self.y_ref;
+        std::array::from_fn(|k| self.stress[k] + dy * self.gradient[k])
+    }
 }
 
 /// A `[[joint_set]]` or a `[[joint]]`, after validation. Its index in `Model::joints`
@@ -151,8 +201,8 @@ pub struct Crack {
 }
 
 /// A piece smaller than `[cover] min_block_area` that was merged into a neighbour, or a
-/// region enclosed by a loop of traces that reaches no block boundary (kept as part of
-/// the block around it; its loop is a crack).
+/// region enclosed by a loop of traces that would pinch the block around it (kept as part
+/// of that block; its loop is a crack).
 #[derive(Debug, Clone, PartialEq)]
 pub struct MergedPiece {
     /// The block (index into `Model::blocks`) it is now part of.
@@ -396,8 +446,10 @@ pub struct Model {
     pub cracks: Vec<Crack>,
     /// Pieces merged because they were smaller than `[cover] min_block_area`.
     pub merged: Vec<MergedPiece>,
-    /// Regions enclosed by loops of traces that reach no block boundary: they stay part
-    /// of the block around them (a block cannot have a hole); their loops are cracks.
+    /// Regions enclosed by loops of traces that would pinch the block around them (a loop
+    /// hanging from the rest by one vertex, or touching another loop at one): they stay
+    /// part of that block; their loops are cracks. (A loop that touches nothing else cuts
+    /// out the pieces inside it.)
     pub enclosed: Vec<MergedPiece>,
     /// Pieces smaller than `[cover] min_block_area` kept as they are because every merge
     /// would have bridged a joint (`block` is the piece itself).
@@ -406,6 +458,8 @@ pub struct Model {
     pub min_block_area: Option<f64>,
     /// `[[stage]]` tables in file order (empty: the model is one stage, `analysis`).
     pub stages: Vec<Stage>,
+    /// `[initial_stress]`, if given.
+    pub initial_stress: Option<InitialStress>,
     /// `[[bolt]]` tables in file order (the last field: see
     /// `simulation::checkpoint::model_fingerprint`).
     pub bolts: Vec<Bolt>,
@@ -441,6 +495,9 @@ pub struct Stage {
     pub analysis: Analysis,
     /// The base-motion record applies in this stage, its t = 0 at the stage's start.
     pub base_motion: bool,
+    /// `excavate`: the blocks (indices into `Model::blocks`, sorted) removed at the start
+    /// of this stage.
+    pub excavate: Vec<usize>,
 }
 
 impl Model {

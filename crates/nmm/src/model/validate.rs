@@ -17,10 +17,8 @@ use super::reader::{
     point, points, segment, string, table, Fields, R,
 };
 use super::*;
-use crate::geometry::polygon::{
-    degeneracy, orient_ccw, point_in_polygon, polygons_overlap, segment_boundary_intervals,
-    segment_on_boundary, self_intersection, Degeneracy, Location,
-};
+use crate::geometry::polygon::{degeneracy, orient_ccw, self_intersection, Degeneracy, Location};
+use crate::geometry::region::{regions_overlap, Region};
 use crate::geometry::{Aabb, Vec2};
 use std::collections::{HashMap, HashSet};
 use toml::Value;
@@ -46,34 +44,47 @@ const TOP_KEYS: &[&str] = &[
     "joint_set",
     "joint",
     "stage",
+    "initial_stress",
     "bolt",
 ];
 
+/// A block as drawn (or a piece): its polygon and holes.
+type Shape = (Vec<Vec2>, Vec<Vec<Vec2>>);
+
 /// What the names of blocks in the model file stand for after cutting.
 pub(crate) struct Names {
-    /// name → (blocks it means: one block, or every piece of a cut block; the polygon
-    /// it names: the block as drawn for a cut block).
-    map: HashMap<String, (Vec<usize>, Vec<Vec2>)>,
+    /// name → (blocks it means: one block, or every piece of a cut block; the region it
+    /// names: the block as drawn for a cut block).
+    map: HashMap<String, (Vec<usize>, Shape)>,
 }
 
 impl Names {
-    fn new(drawn: Vec<(String, Vec<Vec2>)>, pieces_of: &[Vec<usize>], blocks: &[Block]) -> Names {
+    fn new(drawn: Vec<(String, Shape)>, pieces_of: &[Vec<usize>], blocks: &[Block]) -> Names {
         let mut map = HashMap::new();
-        for ((name, poly), pieces) in drawn.into_iter().zip(pieces_of) {
-            map.insert(name, (pieces.clone(), poly));
+        for ((name, shape), pieces) in drawn.into_iter().zip(pieces_of) {
+            map.insert(name, (pieces.clone(), shape));
         }
         for (i, b) in blocks.iter().enumerate() {
             if b.parent.is_some() {
-                map.insert(b.name.clone(), (vec![i], b.vertices.clone()));
+                map.insert(
+                    b.name.clone(),
+                    (vec![i], (b.vertices.clone(), b.holes.clone())),
+                );
             }
         }
         Names { map }
     }
 
-    fn get(&self, name: &str) -> Option<(&[usize], &[Vec2])> {
-        self.map
-            .get(name)
-            .map(|(s, p)| (s.as_slice(), p.as_slice()))
+    pub(crate) fn get(&self, name: &str) -> Option<(&[usize], Region<'_>)> {
+        self.map.get(name).map(|(s, (p, h))| {
+            (
+                s.as_slice(),
+                Region {
+                    outer: p.as_slice(),
+                    holes: h.as_slice(),
+                },
+            )
+        })
     }
 }
 
@@ -104,9 +115,9 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
     check_polygons(root, &mut blocks, tol)?;
     let specs = joints::read(root, &blocks, tol)?;
     joints::check_estimate(root, &blocks, &specs, cov.max_blocks)?;
-    let drawn: Vec<(String, Vec<Vec2>)> = blocks
+    let drawn: Vec<(String, Shape)> = blocks
         .iter()
-        .map(|b| (b.name.clone(), b.vertices.clone()))
+        .map(|b| (b.name.clone(), (b.vertices.clone(), b.holes.clone())))
         .collect();
     let cutting = joints::cut(
         root,
@@ -122,8 +133,12 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
     let loads = loads(root, &blocks, &names, tol)?;
     let constraints = constraints(root, &blocks, &names, tol)?;
     let base_motion = base_motion(root, base_dir)?;
+    let stages = super::insitu::excavations(root, stages, &names, (&blocks, &joint_list, tol))?;
     let bolts = super::bolts::bolts(root, &blocks, &stages, tol)?;
     let monitors = monitors(root, &blocks, &names, tol, &bolts)?;
+    super::insitu::check_monitors(root, &monitors, &stages)?;
+    super::insitu::check_bolts(root, &bolts, &stages)?;
+    let initial_stress = super::insitu::initial_stress(root)?;
     Ok(Model {
         analysis,
         cover_size: cov.size,
@@ -143,6 +158,7 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
         kept_small: cutting.kept_small,
         min_block_area: cov.min_block_area,
         stages,
+        initial_stress,
         bolts,
     })
 }
@@ -336,7 +352,7 @@ fn analysis_and_stages(root: &Doc, has_base_motion: bool) -> R<(Analysis, Vec<St
         let mut f = root.fields(format!("[[stage]] #{}", i + 1), t, "stage", Some(i));
         let name = f.name("name")?;
         f.set_place(format!("[[stage]] {name:?}"));
-        let mut allowed = vec!["name", "base_motion"];
+        let mut allowed = vec!["name", "base_motion", "excavate"];
         allowed.extend(ANALYSIS_KEYS);
         f.deny_unknown(&allowed)?;
         if let Some(k) = stages.iter().position(|s| s.name == name) {
@@ -358,6 +374,8 @@ fn analysis_and_stages(root: &Doc, has_base_motion: bool) -> R<(Analysis, Vec<St
             name,
             analysis,
             base_motion,
+            // resolved once the blocks are cut (`insitu::excavations`)
+            excavate: Vec::new(),
         });
     }
     let analysis = match stages.first() {
@@ -523,7 +541,7 @@ fn blocks(root: &Doc, materials: &[Material]) -> R<Vec<Block>> {
         let mut f = root.fields(format!("[[block]] #{}", i + 1), t, "block", Some(i));
         let name = f.name("name")?;
         f.set_place(format!("[[block]] {name:?}"));
-        f.deny_unknown(&["name", "material", "vertices", "fixed"])?;
+        f.deny_unknown(&["name", "material", "vertices", "fixed", "holes"])?;
         if let Some(k) = out.iter().position(|b| b.name == name) {
             return Err(f.err(
                 "name",
@@ -546,20 +564,49 @@ fn blocks(root: &Doc, materials: &[Material]) -> R<Vec<Block>> {
             ));
         }
         let fixed = f.opt("fixed", boolean)?.unwrap_or(false);
+        let holes = f.opt("holes", hole_list)?.unwrap_or_default();
+        let edges = vertices.len() + holes.iter().map(Vec::len).sum::<usize>();
         out.push(Block {
             name,
             material,
-            edge_joint: vec![None; vertices.len()],
+            edge_joint: vec![None; edges],
             vertices,
             fixed,
             parent: None,
+            holes,
         });
     }
     Ok(out)
 }
 
-/// Check every polygon (degeneracy, self-intersection), orient it CCW, and
-/// check that no two blocks overlap.
+/// `holes = [[[x, y], …], …]`: polygons of at least 3 points each.
+fn hole_list(v: &Value) -> Result<Vec<Vec<Vec2>>, String> {
+    let items = array(v).map_err(|_| {
+        format!(
+            "expected a list of polygons [[[x, y], …], …], got {}",
+            describe(v)
+        )
+    })?;
+    items
+        .iter()
+        .enumerate()
+        .map(|(k, h)| {
+            let p = points(h).map_err(|e| format!("hole {}: {e}", k + 1))?;
+            if p.len() < 3 {
+                return Err(format!(
+                    "hole {}: a polygon needs at least 3 vertices, got {}",
+                    k + 1,
+                    p.len()
+                ));
+            }
+            Ok(p)
+        })
+        .collect()
+}
+
+/// Check every polygon (degeneracy, self-intersection), orient it CCW (its holes CW),
+/// check that each hole lies strictly inside its block and apart from the others, and
+/// that no two blocks overlap.
 fn check_polygons(root: &Doc, blocks: &mut [Block], tol: f64) -> R<()> {
     for (i, b) in blocks.iter_mut().enumerate() {
         let at = root.at("block", Some(i), Some("vertices"));
@@ -603,6 +650,7 @@ fn check_polygons(root: &Doc, blocks: &mut [Block], tol: f64) -> R<()> {
             )));
         }
         orient_ccw(&mut b.vertices);
+        super::insitu::check_holes(root, i, b, tol)?;
     }
     let boxes: Vec<Aabb> = blocks
         .iter()
@@ -611,7 +659,7 @@ fn check_polygons(root: &Doc, blocks: &mut [Block], tol: f64) -> R<()> {
     for j in 0..blocks.len() {
         for i in 0..j {
             if boxes[i].overlaps(&boxes[j])
-                && polygons_overlap(&blocks[i].vertices, &blocks[j].vertices, tol)
+                && regions_overlap(blocks[i].region(), blocks[j].region(), tol)
             {
                 return Err(error(format!(
                     "[[block]] {:?}: key `vertices`: overlaps block {:?} (blocks may touch but not overlap){}",
@@ -631,7 +679,7 @@ fn block_ref<'n>(
     key: &str,
     name: &str,
     names: &'n Names,
-) -> R<(&'n [usize], &'n [Vec2])> {
+) -> R<(&'n [usize], Region<'n>)> {
     names
         .get(name)
         .ok_or_else(|| f.err(key, format!("unknown block {name:?}")))
@@ -879,7 +927,7 @@ fn interface_law(f: &Fields, friction_angle: f64, cohesion: f64) -> R<Option<Int
 fn on_boundary(
     f: &Fields,
     key: &str,
-    (name, poly): (&str, &[Vec2]),
+    (name, poly): (&str, Region),
     (a, b): (Vec2, Vec2),
     tol: f64,
 ) -> R<()> {
@@ -893,7 +941,7 @@ fn on_boundary(
             ),
         ));
     }
-    if !segment_on_boundary(poly, a, b, tol) {
+    if !poly.segment_on_boundary(a, b, tol) {
         return Err(f.err(
             key,
             format!(
@@ -932,7 +980,7 @@ fn split_on_pieces(
     let mut out = Vec::new();
     let mut covered = 0.0;
     for &i in set {
-        for (t0, t1) in segment_boundary_intervals(&blocks[i].vertices, a, b, tol) {
+        for (t0, t1) in blocks[i].region().segment_boundary_intervals(a, b, tol) {
             covered += t1 - t0;
             out.push((i, at(t0), at(t1)));
         }
@@ -956,13 +1004,13 @@ fn split_on_pieces(
 fn piece_at(blocks: &[Block], set: &[usize], p: Vec2, tol: f64) -> usize {
     set.iter()
         .copied()
-        .find(|&i| point_in_polygon(&blocks[i].vertices, p, tol) != Location::Outside)
+        .find(|&i| blocks[i].region().locate(p, tol) != Location::Outside)
         .unwrap_or(set[0])
 }
 
 /// Check that a point lies inside or on the block.
-fn in_block(f: &Fields, key: &str, (name, poly): (&str, &[Vec2]), p: Vec2, tol: f64) -> R<()> {
-    if point_in_polygon(poly, p, tol) == Location::Outside {
+fn in_block(f: &Fields, key: &str, (name, poly): (&str, Region), p: Vec2, tol: f64) -> R<()> {
+    if poly.locate(p, tol) == Location::Outside {
         return Err(f.err(
             key,
             format!("point {} is outside block {:?}", fmt_point(p), name),
@@ -978,7 +1026,7 @@ fn owner_block<'n>(
     kind: &str,
     k: usize,
     names: &'n Names,
-) -> R<(String, &'n [usize], &'n [Vec2])> {
+) -> R<(String, &'n [usize], Region<'n>)> {
     let name = f.req("block", string)?;
     f.set_place(format!("[[{kind}]] #{} (block {name:?})", k + 1));
     let (set, poly) = block_ref(f, "block", name, names)?;
@@ -1451,7 +1499,7 @@ fn monitors(
                 let p = f.req("point", point)?;
                 let block = blocks
                     .iter()
-                    .position(|b| point_in_polygon(&b.vertices, p, tol) != Location::Outside)
+                    .position(|b| b.region().locate(p, tol) != Location::Outside)
                     .ok_or_else(|| {
                         f.err(
                             "point",

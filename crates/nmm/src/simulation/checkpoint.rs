@@ -31,7 +31,7 @@ use std::time::Duration;
 
 const MAGIC: &[u8; 8] = b"NMMCKPT\n";
 /// Bumped whenever the layout below changes.
-pub const FORMAT: u32 = 3;
+pub const FORMAT: u32 = 4;
 
 /// The program version a checkpoint must come from.
 pub fn program_version() -> String {
@@ -52,7 +52,23 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
 }
 
 fn hash_debug<T: std::fmt::Debug + ?Sized>(x: &T) -> u64 {
-    fnv1a(format!("{x:?}").as_bytes())
+    fnv1a(without_defaults(format!("{x:?}")).as_bytes())
+}
+
+/// The `Debug` text of a model part without the keys added later at their defaults
+/// (`holes: []` of a block, `excavate: []` of a stage, `initial_stress: None`), so that
+/// the fingerprints of models that do not use them are what they were.
+fn without_defaults(text: String) -> String {
+    if text.contains(", holes: []")
+        || text.contains(", excavate: []")
+        || text.contains(", initial_stress: None")
+    {
+        text.replace(", holes: []", "")
+            .replace(", excavate: []", "")
+            .replace(", initial_stress: None", "")
+    } else {
+        text
+    }
 }
 
 /// The stages of a model as run: its `[[stage]]` tables, or `[analysis]` as one stage.
@@ -62,6 +78,7 @@ fn stages_of(model: &Model) -> Vec<Stage> {
             name: String::new(),
             analysis: model.analysis.clone(),
             base_motion: true,
+            excavate: Vec::new(),
         }]
     } else {
         model.stages.clone()
@@ -77,7 +94,7 @@ pub fn model_fingerprint(model: &Model) -> u64 {
     if let Some(s) = m.stages.first() {
         m.analysis = s.analysis.clone();
     }
-    let mut text = format!("{m:?}");
+    let mut text = without_defaults(format!("{m:?}"));
     // `bolts` is the model's last field
     if let Some(t) = text.strip_suffix(", bolts: [] }") {
         text = format!("{t} }}");
@@ -97,8 +114,14 @@ pub fn part_fingerprints(model: &Model, stage: usize) -> Vec<(String, Option<u64
         .iter()
         .map(|b| (&b.name, b.material, &b.vertices, b.fixed, &b.edge_joint))
         .collect();
+    let holes: Vec<_> = model.blocks.iter().map(|b| &b.holes).collect();
+    let blocks_hash = if holes.iter().all(|h| h.is_empty()) {
+        hash_debug(&blocks)
+    } else {
+        hash_debug(&(&blocks, &holes))
+    };
     let mut parts = vec![
-        ("blocks".to_string(), Some(hash_debug(&blocks))),
+        ("blocks".to_string(), Some(blocks_hash)),
         (
             "joints".to_string(),
             Some(hash_debug(&(&model.joints, &model.cracks))),
@@ -402,6 +425,16 @@ impl Simulation {
         for k in &c.seen {
             [k.0, k.1, k.2].iter().for_each(|x| w.us(*x));
         }
+        // in-situ stress and excavation (format 4): the energy the excavated blocks took,
+        // the contacts' in-situ offsets (the excavated blocks follow from the stage)
+        w.f(e.excavated);
+        let offsets = self.contacts.insitu_offsets();
+        w.us(offsets.len());
+        for (k, dn, gs) in &offsets {
+            [k.0, k.1, k.2].iter().for_each(|x| w.us(*x));
+            w.f(*dn);
+            w.f(*gs);
+        }
         if !self.bolts.is_empty() {
             let saved = self.bolts.saved();
             w.us(saved.len());
@@ -432,6 +465,8 @@ impl Simulation {
             self.model.analysis = s.analysis.clone();
         }
         self.scale_constraint_penalties();
+        // the blocks excavated up to this stage are gone (their unknowns too)
+        self.excavate_through(stage);
         self.time_origin = r.f()?;
         self.full_steps = r.u64()?;
         self.partial = r.f()?;
@@ -504,6 +539,7 @@ impl Simulation {
             constraint_work: r.f()?,
             static_reset: r.f()?,
             contact_update: r.f()?,
+            excavated: 0.0,
             bolts: 0.0,
             bolt_plastic: 0.0,
         };
@@ -550,6 +586,15 @@ impl Simulation {
             lasting,
             seen,
         });
+        self.energy.excavated = r.f()?;
+        let no = r.len(40)?;
+        let offsets = (0..no)
+            .map(|_| Ok(((r.us()?, r.us()?, r.us()?), r.f()?, r.f()?)))
+            .collect::<Res<Vec<_>>>()?;
+        if offsets.iter().any(|o| o.0 .0 >= blocks || o.0 .2 >= blocks) {
+            return Err("a contact names a block that is not in the model".into());
+        }
+        self.contacts.restore_insitu_offsets(&offsets);
         if !self.bolts.is_empty() {
             let nb = r.len(34)?;
             let saved = (0..nb)

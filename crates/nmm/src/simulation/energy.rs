@@ -72,6 +72,8 @@ pub struct Energy {
     pub flow: f64,
     /// dissipated by the bolts' plastic elongation so far: Σ N Δp
     pub bolt_plastic: f64,
+    /// the elastic and kinetic energy the excavated blocks had when they were removed
+    pub excavated: f64,
 }
 
 impl Energy {
@@ -95,7 +97,7 @@ impl Energy {
         self.max - self.initial
     }
     /// Dissipated so far: friction + damping + algorithmic + static reset + contact update
-    /// + the bolts' plastic work.
+    /// + the bolts' plastic work + what excavated blocks took with them.
     pub fn dissipated(&self) -> f64 {
         self.friction
             + self.damping
@@ -103,6 +105,7 @@ impl Energy {
             + self.static_reset
             + self.contact_update
             + self.bolt_plastic
+            + self.excavated
     }
     /// total + dissipated − initial − external work: zero when the balance closes.
     pub fn balance_error(&self) -> f64 {
@@ -277,10 +280,10 @@ impl Simulation {
             e.flow = e.flow.max(e.external_work.abs()).max(e.dissipated().abs());
         }
         if first {
-            // the state before the first step: unstressed, no springs stretched, moving only
-            // if a velocity was set (½ v₀ᵀMv₀)
-            e.initial = initial_kinetic;
-            e.max = initial_kinetic;
+            // the state before the first step: unstressed (or at the in-situ stress), no
+            // springs stretched, moving only if a velocity was set (½ v₀ᵀMv₀)
+            e.initial = initial_kinetic + self.insitu.initial_elastic;
+            e.max = e.initial;
         }
         let net = e.total() - e.external_work;
         e.max = e.max.max(net);

@@ -72,7 +72,11 @@ pub fn estimate(model: &Model) -> Estimate {
         if b.fixed {
             continue;
         }
-        let area = polygon_area(v).abs();
+        let area = if b.holes.is_empty() {
+            polygon_area(v).abs()
+        } else {
+            b.area()
+        };
         let perimeter: f64 = (0..v.len())
             .map(|i| {
                 let (p, q) = (v[i], v[(i + 1) % v.len()]);

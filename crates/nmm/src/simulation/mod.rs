@@ -21,6 +21,7 @@
 mod bolt_frames;
 pub mod checkpoint;
 mod energy;
+mod insitu;
 pub mod memory;
 mod run;
 mod setup;
@@ -44,7 +45,7 @@ mod step;
 use crate::assembly::global::{gather_into, NO_DOF};
 use crate::contact::set::ContactSet;
 use crate::cover::basis::{CoverBasis, ElementDofTable, MAX_ELEMENT_DOFS};
-use crate::cover::{discretise_with, Discretisation, MaterialPoint};
+use crate::cover::{Discretisation, MaterialPoint};
 use crate::material::{elasticity_matrix, stress as hooke, Mat3};
 use crate::model::{Mode, Model, TimeFunction};
 use crate::solver::{
@@ -308,6 +309,8 @@ pub struct Simulation {
     /// (`penalties` are these scaled to the current stage's factor: they are linear in it).
     penalty_base: Vec<Penalty>,
     penalty_factor: f64,
+    /// In-situ stress and excavated blocks ([`insitu`]).
+    pub(crate) insitu: insitu::State,
 }
 
 impl Simulation {
@@ -319,10 +322,15 @@ impl Simulation {
         let blocks: Vec<_> = model
             .blocks
             .iter()
-            .map(|b| (b.vertices.clone(), b.fixed))
+            .map(|b| crate::cover::Shape {
+                outer: &b.vertices,
+                holes: &b.holes,
+                fixed: b.fixed,
+            })
             .collect();
-        let disc = discretise_with(
+        let disc = crate::cover::discretise_shapes(
             &blocks,
+            &[],
             model.cover_size,
             model.cover_origin,
             CoverBasis::from_order(model.cover_order).ok_or("[cover] order: must be 0 or 1")?,
@@ -396,6 +404,7 @@ impl Simulation {
             stage: 0,
             penalty_base: Vec::new(),
             penalty_factor: 0.0,
+            insitu: Default::default(),
             base_origin: match model.stages.first() {
                 Some(s) => s.base_motion.then_some(0.0),
                 None => Some(0.0),
@@ -434,6 +443,8 @@ impl Simulation {
         }
         sim.contacts.set_block_masses(masses);
         sim.build_element_pattern();
+        sim.init_insitu();
+        sim.excavate_through(0);
         Ok(sim)
     }
 

@@ -505,6 +505,7 @@ pub fn run_simulation(
         "algorithmic_dissipation": e.algorithmic,
         "static_reset": e.static_reset,
         "contact_update": e.contact_update,
+        "excavated": e.excavated,
         "bolt_plastic_dissipation": e.bolt_plastic,
         "dissipated": e.dissipated(),
         "balance_error": e.balance_error(),

@@ -92,6 +92,7 @@ impl Simulation {
         self.full_steps = 0;
         self.partial = 0.0;
         self.scale_constraint_penalties();
+        self.excavate_through(self.stage);
         self.install_bolts();
         if was_static {
             self.v.iter_mut().for_each(|x| *x = 0.0);

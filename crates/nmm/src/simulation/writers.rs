@@ -98,6 +98,9 @@ pub fn blocks_grid(sim: &Simulation) -> Grid {
         [0.0; crate::cover::basis::MAX_ELEMENT_DOFS],
     );
     for (ei, e) in sim.disc.elements.iter().enumerate() {
+        if sim.is_excavated(e.block) {
+            continue; // gone from the stage that excavated it on
+        }
         let start = g.points.len();
         let dofs = sim.elem_dofs.of(ei);
         let (ue, ve) = (&mut ue[..dofs.len()], &mut ve[..dofs.len()]);

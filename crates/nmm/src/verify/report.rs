@@ -468,11 +468,10 @@ pub fn figure_blocks(
         .collect();
     let mut lines = Vec::new();
     for b in &model.blocks {
-        let n = b.vertices.len();
-        for (k, j) in b.edge_joint.iter().enumerate() {
+        for ((p, q), j) in b.edges().zip(&b.edge_joint) {
             if j.is_some() {
                 lines.push(MapLine {
-                    points: xy(&[b.vertices[k], b.vertices[(k + 1) % n]]),
+                    points: xy(&[p, q]),
                     colour: 7,
                     width: 2,
                 });

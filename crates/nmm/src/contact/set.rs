@@ -1259,44 +1259,54 @@ pub fn uses_bonds(model: &Model) -> bool {
         .any(|l| l.law().has_bonds())
 }
 
-/// For a bonded contact the detection did not find: the segment of `b` with the normal
-/// `n_old` the contact had (within 0.99) nearest to `p`, whose strip, lengthened by
-/// `reach` at both ends, holds `p` within the gap range [−`reach`, `reach`] (the
-/// projection clamped to the segment).
-fn held_edge(
-    p: &Vec2,
-    (b, loops): (&[Vec2], &[usize]),
+/// The segments of `b` (loops `loops`) whose outward normal is (nearly) `n_old`, each with
+/// `p` seen from it: its index j, the arc length s of p's projection from the segment's
+/// start, its length, the gap (positive outside) and its normal and tangent.
+fn facing_segments<'a>(
+    p: &'a Vec2,
+    (b, loops): (&'a [Vec2], &'a [usize]),
     n_old: Vec2,
-    reach: f64,
-) -> Option<VertexEdge> {
+) -> impl Iterator<Item = (usize, f64, f64, f64, Vec2, Vec2)> + 'a {
     let m = b.len();
-    let mut best: Option<(f64, VertexEdge)> = None;
-    for j in 0..m {
+    (0..m).filter_map(move |j| {
         let (a, q) = (b[j], b[crate::geometry::region::loop_next(loops, m, j)]);
         let d = sub(q, a);
         let len = norm(d);
         if len == 0.0 {
-            continue;
+            return None;
         }
         let t = [d[0] / len, d[1] / len];
+        // material on the left: the outward normal is the tangent turned clockwise
         let n = [t[1], -t[0]];
         if dot(n, n_old) < 0.99 {
-            continue;
+            return None;
         }
         let s = dot(sub(*p, a), t);
         let gap = -cross(d, sub(*p, a)) / len;
+        Some((j, s, len, gap, n, t))
+    })
+}
+
+/// For a bonded contact the detection did not find: the segment of `b` with the normal
+/// `n_old` the contact had (within 0.99) nearest to `p`, whose strip, lengthened by
+/// `reach` at both ends, holds `p` within the gap range [−`reach`, `reach`] (the
+/// projection clamped to the segment).
+fn held_edge(p: &Vec2, b: (&[Vec2], &[usize]), n_old: Vec2, reach: f64) -> Option<VertexEdge> {
+    let mut best: Option<(f64, VertexEdge)> = None;
+    for (j, s, len, gap, n, t) in facing_segments(p, b, n_old) {
         if s < -reach || s > len + reach || gap.abs() > reach {
             continue;
         }
         // distance beyond the segment's ends, then the gap: the nearest segment
         let out = (-s).max(s - len).max(0.0) + gap.abs();
         if best.as_ref().is_none_or(|(o, _)| out < *o) {
+            let xi = (s / len).clamp(0.0, 1.0);
             best = Some((
                 out,
                 VertexEdge {
                     vertex: 0,
                     segment: j,
-                    xi: (s / len).clamp(0.0, 1.0),
+                    xi,
                     gap,
                     normal: n,
                     tangent: t,
@@ -1309,29 +1319,10 @@ fn held_edge(
 
 /// The segment of `b` whose outward normal is (nearly) `n_old` and that still holds
 /// vertex `p` (projection within the segment, gap within [−search, search]).
-fn keep_edge(
-    p: &Vec2,
-    (b, loops): (&[Vec2], &[usize]),
-    n_old: Vec2,
-    search: f64,
-) -> Option<VertexEdge> {
-    let m = b.len();
+fn keep_edge(p: &Vec2, b: (&[Vec2], &[usize]), n_old: Vec2, search: f64) -> Option<VertexEdge> {
     let mut best: Option<VertexEdge> = None;
-    for j in 0..m {
-        let (a, q) = (b[j], b[crate::geometry::region::loop_next(loops, m, j)]);
-        let d = sub(q, a);
-        let len = norm(d);
-        if len == 0.0 {
-            continue;
-        }
-        let t = [d[0] / len, d[1] / len];
-        // CCW polygon: the outward normal is the tangent turned clockwise
-        let n = [t[1], -t[0]];
-        if dot(n, n_old) < 0.99 {
-            continue;
-        }
-        let xi = dot(sub(*p, a), t) / len;
-        let gap = -cross(d, sub(*p, a)) / len;
+    for (j, s, len, gap, n, t) in facing_segments(p, b, n_old) {
+        let xi = s / len;
         if !(-1e-9..=1.0 + 1e-9).contains(&xi) || gap.abs() > search {
             continue;
         }

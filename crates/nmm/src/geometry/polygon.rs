@@ -364,6 +364,33 @@ pub fn polygons_overlap(p: &[Vec2], q: &[Vec2], tol: f64) -> bool {
     q_in_p || (p_all_on && q_all_on)
 }
 
+/// The parameters t ∈ [0, 1] along a→b where the closed loop `q` splits it: its vertices
+/// within `tol` of ab and its edges' proper crossings with ab (pushed onto `cuts`).
+pub(crate) fn push_cuts(a: Vec2, b: Vec2, q: &[Vec2], tol: f64, cuts: &mut Vec<f64>) {
+    let ab = sub(b, a);
+    let l2 = dot(ab, ab);
+    for j in 0..q.len() {
+        let (c, d) = edge(q, j);
+        // Vertices of q on ab split it.
+        for v in [c, d] {
+            if point_segment_distance(v, a, b) <= tol {
+                cuts.push((dot(sub(v, a), ab) / l2).clamp(0.0, 1.0));
+            }
+        }
+        // Proper crossings of ab with cd.
+        if segments_cross_properly(a, b, c, d) {
+            let cd = sub(d, c);
+            let den = cross(ab, cd);
+            if den != 0.0 {
+                let t = cross(sub(c, a), cd) / den;
+                if t.is_finite() {
+                    cuts.push(t.clamp(0.0, 1.0));
+                }
+            }
+        }
+    }
+}
+
 /// Split each edge of `p` at the boundary of `q` and classify the pieces.
 /// Returns (some piece strictly inside q, every piece on q's boundary).
 fn classify_boundary(p: &[Vec2], q: &[Vec2], tol: f64) -> (bool, bool) {
@@ -379,26 +406,7 @@ fn classify_boundary(p: &[Vec2], q: &[Vec2], tol: f64) -> (bool, bool) {
         cuts.clear();
         cuts.push(0.0);
         cuts.push(1.0);
-        for j in 0..q.len() {
-            let (c, d) = edge(q, j);
-            // Vertices of q on ab split it.
-            for v in [c, d] {
-                if point_segment_distance(v, a, b) <= tol {
-                    cuts.push((dot(sub(v, a), ab) / l2).clamp(0.0, 1.0));
-                }
-            }
-            // Proper crossings of ab with cd.
-            if segments_cross_properly(a, b, c, d) {
-                let cd = sub(d, c);
-                let den = cross(ab, cd);
-                if den != 0.0 {
-                    let t = cross(sub(c, a), cd) / den;
-                    if t.is_finite() {
-                        cuts.push(t.clamp(0.0, 1.0));
-                    }
-                }
-            }
-        }
+        push_cuts(a, b, q, tol, &mut cuts);
         cuts.sort_by(f64::total_cmp);
         for w in cuts.windows(2) {
             let (t0, t1) = (w[0], w[1]);

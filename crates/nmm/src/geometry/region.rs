@@ -13,10 +13,10 @@
 // `!(x > tol)` is deliberate throughout: a NaN fails the test.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 use super::polygon::{
-    boundary_distance, edge, point_in_polygon, point_segment_distance, segment_boundary_intervals,
-    segment_on_boundary, segments_cross_properly, Location,
+    boundary_distance, edge, point_in_polygon, push_cuts, segment_boundary_intervals,
+    segment_on_boundary, Location,
 };
-use super::{cross, dot, lerp, sub, Aabb, Vec2};
+use super::{dot, lerp, sub, Aabb, Vec2};
 
 /// A polygon with holes: `outer` (counter-clockwise) and `holes` (clockwise), each
 /// without a repeated closing vertex.
@@ -201,24 +201,7 @@ fn classify(p: Region, q: Region, tol: f64) -> (bool, bool) {
             cuts.push(0.0);
             cuts.push(1.0);
             for ql in q.loops() {
-                for j in 0..ql.len() {
-                    let (c, d) = edge(ql, j);
-                    for v in [c, d] {
-                        if point_segment_distance(v, a, b) <= tol {
-                            cuts.push((dot(sub(v, a), ab) / l2).clamp(0.0, 1.0));
-                        }
-                    }
-                    if segments_cross_properly(a, b, c, d) {
-                        let cd = sub(d, c);
-                        let den = cross(ab, cd);
-                        if den != 0.0 {
-                            let t = cross(sub(c, a), cd) / den;
-                            if t.is_finite() {
-                                cuts.push(t.clamp(0.0, 1.0));
-                            }
-                        }
-                    }
-                }
+                push_cuts(a, b, ql, tol, &mut cuts);
             }
             cuts.sort_by(f64::total_cmp);
             for w in cuts.windows(2) {

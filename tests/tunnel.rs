@@ -43,7 +43,10 @@ const NU: f64 = 0.25;
 const CHORDS: usize = 64;
 
 fn pts(p: &[[f64; 2]]) -> String {
-    let v: Vec<String> = p.iter().map(|x| format!("[{:?}, {:?}]", x[0], x[1])).collect();
+    let v: Vec<String> = p
+        .iter()
+        .map(|x| format!("[{:?}, {:?}]", x[0], x[1]))
+        .collect();
     format!("[{}]", v.join(", "))
 }
 
@@ -113,7 +116,11 @@ fn model(side: f64, h: f64, order: usize, k: f64, drawn: Drawn) -> String {
             tr[1]
         );
     }
-    for (p, c) in [([0.0, -half], "ux"), ([0.0, half], "ux"), ([-half, 0.0], "uy")] {
+    for (p, c) in [
+        ([0.0, -half], "ux"),
+        ([0.0, half], "ux"),
+        ([-half, 0.0], "uy"),
+    ] {
         t += &format!(
             "[[constraint]]\nblock = \"rock\"\npoint = [{:?}, {:?}]\n{c} = 0.0\n",
             p[0], p[1]
@@ -219,8 +226,14 @@ fn check_hydrostatic(label: &str, d: &Dug) {
         100.0 * (hoop / (-2.0 * P) - 1.0),
         d.insitu_motion / want.abs()
     );
-    assert!((mean / want - 1.0).abs() < 0.05, "{label}: wall displacement");
-    assert!((hoop / (-2.0 * P) - 1.0).abs() < 0.10, "{label}: hoop stress");
+    assert!(
+        (mean / want - 1.0).abs() < 0.05,
+        "{label}: wall displacement"
+    );
+    assert!(
+        (hoop / (-2.0 * P) - 1.0).abs() < 0.10,
+        "{label}: hoop stress"
+    );
     assert!(
         d.insitu_motion < 1e-3 * want.abs(),
         "{label}: the in-situ stage moved {:.3e} m",

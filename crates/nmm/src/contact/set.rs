@@ -664,8 +664,7 @@ impl ContactSet {
                         if found.iter().any(|f| f.vertex == v) {
                             continue;
                         }
-                        if let Some(e) = held_edge(&polys[pa][v], (&polys[pb], lb), n_old, search)
-                        {
+                        if let Some(e) = held_edge(&polys[pa][v], (&polys[pb], lb), n_old, search) {
                             found.push(VertexEdge { vertex: v, ..e });
                         }
                     }
@@ -677,12 +676,9 @@ impl ContactSet {
                         // edge the contact had while it still holds the vertex, so that the
                         // normal does not flip between steps (which pumps energy in).
                         if dot(*n_old, ve.normal) < 0.9 {
-                            if let Some(kept) = keep_edge(
-                                &polys[pa][ve.vertex],
-                                (&polys[pb], lb),
-                                *n_old,
-                                search,
-                            ) {
+                            if let Some(kept) =
+                                keep_edge(&polys[pa][ve.vertex], (&polys[pb], lb), *n_old, search)
+                            {
                                 ve = VertexEdge {
                                     vertex: ve.vertex,
                                     ..kept
@@ -760,12 +756,8 @@ impl ContactSet {
                     );
                     // in-situ stress: the springs of a contact touching at the start carry σ₀·n
                     let tol = self.touch_tol;
-                    let (offset, gs0) = self.insitu_offset(
-                        key,
-                        ve.gap,
-                        (pn, ps),
-                        (ve.normal, ve.tangent),
-                        |s| {
+                    let (offset, gs0) =
+                        self.insitu_offset(key, ve.gap, (pn, ps), (ve.normal, ve.tangent), |s| {
                             insitu::force_on_vertex(
                                 (&polys[pa], la),
                                 ve.vertex,
@@ -774,8 +766,7 @@ impl ContactSet {
                                 s,
                                 tol,
                             )
-                        },
-                    );
+                        });
                     let gn0 = if offset != 0.0 {
                         ve.gap + offset
                     } else {

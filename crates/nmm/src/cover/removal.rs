@@ -62,9 +62,7 @@ mod tests {
                     .covers
                     .iter()
                     .filter(|c| c.block == blk)
-                    .map(|c| {
-                        2 + 2 * c.terms.iter().filter(|&&t| t != NO_DOF).count()
-                    })
+                    .map(|c| 2 + 2 * c.terms.iter().filter(|&&t| t != NO_DOF).count())
                     .sum::<usize>()
             };
             assert_eq!(d.n_dofs, kept(0) + kept(2));
@@ -83,7 +81,12 @@ mod tests {
             }
             // block 0 unchanged, block 2 shifted down past block 1's unknowns
             let first = |dd: &Discretisation, blk: usize| {
-                dd.covers.iter().find(|c| c.block == blk).unwrap().dof.unwrap()
+                dd.covers
+                    .iter()
+                    .find(|c| c.block == blk)
+                    .unwrap()
+                    .dof
+                    .unwrap()
             };
             assert_eq!(first(&d, 0), 0);
             assert_eq!(first(&d, 2), kept(0));

@@ -99,7 +99,12 @@ impl Simulation {
         let lp = &self.linear;
         if lp.m.len() == lp.tangent.element().nnz() && self.v.iter().any(|&x| x != 0.0) {
             let mut removed = vec![false; self.v.len()];
-            for c in self.disc.covers.iter().filter(|c| self.is_excavated(c.block)) {
+            for c in self
+                .disc
+                .covers
+                .iter()
+                .filter(|c| self.is_excavated(c.block))
+            {
                 for d in c.dof.into_iter().chain(c.terms.iter().copied()) {
                     if d != NO_DOF {
                         removed[d] = true;
@@ -143,7 +148,11 @@ impl Simulation {
                 *d = map[*d];
             }
         };
-        for p in self.penalties.iter_mut().chain(self.penalty_base.iter_mut()) {
+        for p in self
+            .penalties
+            .iter_mut()
+            .chain(self.penalty_base.iter_mut())
+        {
             p.dofs.iter_mut().for_each(dof);
         }
         for g in &mut self.ghosts {

@@ -182,7 +182,11 @@ impl ContactSet {
             return (0.0, 0.0);
         };
         if self.commits > 0 {
-            return self.insitu.offsets.get(&key).map_or((0.0, 0.0), |o| (o.0, 0.0));
+            return self
+                .insitu
+                .offsets
+                .get(&key)
+                .map_or((0.0, 0.0), |o| (o.0, 0.0));
         }
         if gap.abs() > self.touch_tol {
             self.insitu.offsets.remove(&key);

@@ -516,12 +516,9 @@ fn resumed_runs_with_excavations_write_the_same_history() {
     let at = |step: usize, col: usize| rows[step][col].parse::<f64>().unwrap();
     // at rest in situ; the west crown falls by millimetres once the plug is gone; the bolt
     // holds from `support` on; the east wall moves most once the east tunnel is dug
-    for k in 1..=10 {
-        assert!(
-            at(k, 3).abs() < 1e-9 && at(k, 8).abs() < 1e-9,
-            "{:?}",
-            rows[k]
-        );
+    for row in &rows[1..=10] {
+        let u = |col: usize| row[col].parse::<f64>().unwrap().abs();
+        assert!(u(3) < 1e-9 && u(8) < 1e-9, "{row:?}");
     }
     assert!(at(25, 3) < -1e-3, "crown {:?}", rows[25]);
     assert_eq!((at(25, 6), rows[26][13]), (0.0, "support"));

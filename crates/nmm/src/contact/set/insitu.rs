@@ -194,7 +194,7 @@ impl ContactSet {
         }
         let f = force(&s);
         let (tn, ts) = (-dot(f, n), -dot(f, t));
-        if !(tn < 0.0) {
+        if tn.is_nan() || tn >= 0.0 {
             self.insitu.offsets.remove(&key);
             return (0.0, 0.0);
         }

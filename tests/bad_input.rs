@@ -936,3 +936,387 @@ fn bolt_errors() {
         assert_rejected(expect[2], &text, &expect);
     }
 }
+
+/// The example in two stages, `settle` and `dig`, `dig` excavating `upper` (its
+/// constraint goes with it); the monitor `crest` moved from `upper` to the base (at
+/// [1, 0.8], outside CAVE).
+const DIG: &str =
+    "\n[[stage]]\nname = \"settle\"\n\n[[stage]]\nname = \"dig\"\nexcavate = [\"upper\"]\n";
+
+/// The excavated example with `from` replaced by `to` (which must occur in DIG), and
+/// `extra` after it; `base` replaces the example.
+fn dug_from(base: &str, from: &str, to: &str, extra: &str) -> String {
+    assert!(DIG.contains(from), "{from:?} is not in DIG");
+    let base = base.replacen("point = [1.5, 1.2]", "point = [1.0, 0.8]", 1);
+    format!("{base}{}{extra}", DIG.replacen(from, to, 1))
+}
+
+fn dug(from: &str, to: &str, extra: &str) -> String {
+    dug_from(EXAMPLE, from, to, extra)
+}
+
+/// `model.toml, line N)` for the last line of `text` containing `needle`.
+fn at_last_line(text: &str, needle: &str) -> String {
+    let i = text
+        .rfind(needle)
+        .unwrap_or_else(|| panic!("{needle:?} not found"));
+    format!("model.toml, line {})", text[..i].matches('\n').count() + 1)
+}
+
+/// A closed `[[joint]]` loop "cave" in the base (which it cuts: `blocks`), cutting out
+/// its region.
+const CAVE: &str = "\n[[joint]]\nname = \"cave\"\npoints = [[1.3, 0.2], [1.8, 0.2], [1.8, 0.6], [1.3, 0.6], [1.3, 0.2]]\nblocks = [\"base\"]\n";
+
+#[test]
+fn the_excavated_example_is_accepted() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("model.toml");
+    for (case, text, blocks) in [
+        ("a block", dug("", "", ""), "blocks: 3 (1 fixed)"),
+        (
+            "pieces and a joint loop",
+            dug_from(
+                &format!("{EXAMPLE}{JOINTS}{CAVE}"),
+                "[\"upper\"]",
+                "[\"upper.1\", \"slider.2\", \"cave\"]",
+                "",
+            )
+            .replacen("interface = [\"slider\", \"base\"]", "interface = [\"slider.1\", \"base.2\"]", 1),
+            "blocks: 12 (2 fixed)",
+        ),
+        (
+            "a hole, its plug and in-situ stress",
+            dug(
+                "[\"upper\"]",
+                "[\"plug\"]",
+                "\n[initial_stress]\nstress = [-1.0e6, -2.0e6, 0.0]\ngradient = [1.0e4, 2.0e4, 0.0]\ny_ref = 1.5\n\
+                 \n[[block]]\nname = \"plug\"\nmaterial = \"limestone\"\nvertices = [[1.3, 0.2], [1.8, 0.2], [1.8, 0.6], [1.3, 0.6]]\n",
+            )
+            .replacen(
+                "fixed = true",
+                "fixed = true\nholes = [[[1.3, 0.2], [1.3, 0.6], [1.8, 0.6], [1.8, 0.2]]]",
+                1,
+            ),
+            "blocks: 4 (1 fixed)",
+        ),
+    ] {
+        std::fs::write(&path, &text).unwrap();
+        let (ok, stdout, stderr) = check(&path);
+        assert!(ok, "{case}: {stderr}");
+        assert!(stdout.contains(blocks), "{case}: {stdout}");
+    }
+}
+
+/// Every bad `excavate` (and a monitor or a bolt anchor on an excavated block): one line
+/// naming the stage (or the monitor, the bolt), the key, the reason and the file and line.
+#[test]
+fn excavation_errors() {
+    let no_joint_monitor = |t: String| {
+        t.replacen(
+            "\n[[monitor]]\nname = \"joint\"\ninterface = [\"slider\", \"base\"]\n",
+            "\n",
+            1,
+        )
+    };
+    let two_stages = dug(
+        "name = \"settle\"",
+        "name = \"settle\"\nexcavate = [\"upper\"]",
+        "",
+    );
+    let block_monitor = dug(
+        "",
+        "",
+        "\n[[monitor]]\nname = \"heap\"\nblock = \"upper\"\n",
+    );
+    let cases: Vec<(String, String, Vec<&str>)> = vec![
+        (
+            dug("[\"upper\"]", "[\"upper\", \"slider\", \"upper\"]", ""),
+            "excavate = ".into(),
+            vec!["[[stage]] \"dig\": key `excavate`: block \"upper\" is excavated twice (also in this list)"],
+        ),
+        (
+            two_stages.clone(),
+            at_last_line(&two_stages, "excavate = "),
+            vec!["[[stage]] \"dig\": key `excavate`: block \"upper\" is excavated twice (also by [[stage]] \"settle\")"],
+        ),
+        (
+            dug_from(&format!("{EXAMPLE}{JOINTS}"), "[\"upper\"]", "[\"upper.2\", \"upper\"]", ""),
+            "excavate = ".into(),
+            vec!["[[stage]] \"dig\": key `excavate`: \"upper\" names a block excavated twice: \"upper.2\" (also in this list) means it too"],
+        ),
+        (
+            dug_from(&format!("{EXAMPLE}{CAVE}"), "[\"upper\"]", "[\"cave\", \"base.1\"]", ""),
+            "excavate = ".into(),
+            vec!["[[stage]] \"dig\"", "key `excavate`", "\"base.1\" names a block excavated twice: \"cave\" (also in this list) means it too"],
+        ),
+        (
+            dug("[\"upper\"]", "[\"uper\"]", ""),
+            "excavate = ".into(),
+            vec!["[[stage]] \"dig\": key `excavate`: unknown block \"uper\" (nor a closed [[joint]] loop of that name)"],
+        ),
+        (
+            dug_from(&format!("{EXAMPLE}{JOINTS}"), "[\"upper\"]", "[\"fault\"]", ""),
+            "excavate = ".into(),
+            vec!["[[stage]] \"dig\": key `excavate`: no block is named \"fault\", and [[joint]] \"fault\" is not a closed loop"],
+        ),
+        (
+            dug_from(&format!("{EXAMPLE}{}", CAVE.replace("blocks = [\"base\"]\n", "")), "[\"upper\"]", "[\"cave\"]", ""),
+            "excavate = ".into(),
+            vec!["[[stage]] \"dig\": key `excavate`: the closed joint loop \"cave\" encloses no block", "by default every block that is not fixed"],
+        ),
+        (
+            dug("[\"upper\"]", "\"upper\"", ""),
+            "excavate = ".into(),
+            vec!["[[stage]] \"dig\": key `excavate`: expected an array, got string \"upper\""],
+        ),
+        (
+            dug("[\"upper\"]", "[1]", ""),
+            "excavate = ".into(),
+            vec!["[[stage]] \"dig\": key `excavate`: expected a string, got integer 1"],
+        ),
+        (
+            dug("[\"upper\"]", "[[\"upper\"]]", ""),
+            "excavate = ".into(),
+            vec!["[[stage]] \"dig\": key `excavate`: expected a string, got an array of 1 items"],
+        ),
+        (
+            dug("[\"upper\"]", "{ block = \"upper\" }", ""),
+            "excavate = ".into(),
+            vec!["[[stage]] \"dig\": key `excavate`: expected an array, got a table"],
+        ),
+        (
+            dug("[\"upper\"]", "[]", ""),
+            "excavate = ".into(),
+            vec!["[[stage]] \"dig\": key `excavate`: must name at least one block"],
+        ),
+        (
+            format!("{}{DIG}", EXAMPLE.replacen("output_every = 10", "output_every = 10\nexcavate = [\"upper\"]", 1)),
+            "excavate = ".into(),
+            vec!["[analysis]: unknown key `excavate`"],
+        ),
+        (
+            format!("{EXAMPLE}{DIG}"),
+            "point = [1.5, 1.2]".into(),
+            vec!["[[monitor]] \"crest\": key `point`: it is on a block that [[stage]] \"dig\" excavates (a monitor on an excavated block is not allowed"],
+        ),
+        (
+            dug("[\"upper\"]", "[\"slider\"]", ""),
+            "interface = [\"slider\", \"base\"]".into(),
+            vec!["[[monitor]] \"joint\": key `interface`: it is on a block that [[stage]] \"dig\" excavates"],
+        ),
+        (
+            block_monitor.clone(),
+            at_last_line(&block_monitor, "block = \"upper\""),
+            vec!["[[monitor]] \"heap\": key `block`: it is on a block that [[stage]] \"dig\" excavates"],
+        ),
+        (
+            no_joint_monitor(dug("[\"upper\"]", "[\"slider\"]", BOLT)),
+            "points = [[0.5, 1.25]".into(),
+            vec!["[[bolt]] \"b1\": key `points`: anchor 1 is in a block that [[stage]] \"dig\" excavates (anchor bolts in the rock that stays)"],
+        ),
+        (
+            // `base` means its pieces, the loop's among them
+            dug_from(&format!("{EXAMPLE}{CAVE}"), "[\"upper\"]", "[\"cave\"]", ""),
+            "interface = [\"slider\", \"base\"]".into(),
+            vec!["[[monitor]] \"joint\": key `interface`: it is on a block that [[stage]] \"dig\" excavates"],
+        ),
+        (
+            no_joint_monitor(dug_from(
+                &format!("{EXAMPLE}{CAVE}"),
+                "[\"upper\"]",
+                "[\"cave\"]",
+                &BOLT.replace("[[0.5, 1.25], [0.5, 0.5]]", "[[1.5, 1.25], [1.5, 0.4]]"),
+            )),
+            "points = [[1.5, 1.25]".into(),
+            vec!["[[bolt]] \"b1\": key `points`: anchor 2 is in a block that [[stage]] \"dig\" excavates"],
+        ),
+    ];
+    for (text, line_of, expect) in cases {
+        let mut expect = expect.clone();
+        let at = if line_of.starts_with("model.toml") {
+            line_of
+        } else {
+            at_line(&text, &line_of)
+        };
+        expect.push(&at);
+        assert_rejected(expect[0], &text, &expect);
+    }
+}
+
+/// Every bad `[initial_stress]`: one line naming the table, the key, the reason and the
+/// file and line.
+#[test]
+fn initial_stress_errors() {
+    const IS: &str = "\n[initial_stress]\nstress = [-1.0e6, -2.0e6, 0.0]\ngradient = [0.0, 2.0e4, 0.0]\ny_ref = 1.5\n";
+    let with = |from: &str, to: &str| {
+        assert!(IS.contains(from), "{from:?} is not in IS");
+        format!("{EXAMPLE}{}", IS.replacen(from, to, 1))
+    };
+    let cases: Vec<(String, &str, Vec<&str>)> = vec![
+        (
+            with("[-1.0e6, -2.0e6, 0.0]", "[-1.0e6, -2.0e6]"),
+            "stress = ",
+            vec!["[initial_stress]: key `stress`: expected three numbers [σxx, σyy, τxy], got 2 items"],
+        ),
+        (
+            with("[-1.0e6, -2.0e6, 0.0]", "[-1.0e6, -2.0e6, 0.0, 0.0]"),
+            "stress = ",
+            vec!["[initial_stress]: key `stress`: expected three numbers [σxx, σyy, τxy], got 4 items"],
+        ),
+        (
+            with("[0.0, 2.0e4, 0.0]", "[2.0e4]"),
+            "gradient = ",
+            vec!["[initial_stress]: key `gradient`: expected three numbers [σxx, σyy, τxy], got 1 items"],
+        ),
+        (
+            with("[0.0, 2.0e4, 0.0]", "[0.0, 2.0e4, 0.0, 0.0]"),
+            "gradient = ",
+            vec!["[initial_stress]: key `gradient`: expected three numbers [σxx, σyy, τxy], got 4 items"],
+        ),
+        (
+            with("-2.0e6", "\"deep\""),
+            "stress = ",
+            vec!["[initial_stress]: key `stress`: expected a number, got string \"deep\""],
+        ),
+        (
+            with("2.0e4", "nan"),
+            "gradient = ",
+            vec!["[initial_stress]: key `gradient`: NaN is not allowed"],
+        ),
+        (
+            with("-1.0e6", "-inf"),
+            "stress = ",
+            vec!["[initial_stress]: key `stress`: infinite values are not allowed, got -inf"],
+        ),
+        (
+            with("[-1.0e6, -2.0e6, 0.0]", "-2.0e6"),
+            "stress = ",
+            vec!["[initial_stress]: key `stress`: expected an array, got float -2000000"],
+        ),
+        (
+            with("y_ref = 1.5", "y_ref = \"top\""),
+            "y_ref = ",
+            vec!["[initial_stress]: key `y_ref`: expected a number, got string \"top\""],
+        ),
+        (
+            with("y_ref = 1.5", "y_ref = 1.5\nk0 = 0.5"),
+            "k0 = ",
+            vec!["[initial_stress]: unknown key `k0` (allowed: stress, gradient, y_ref)"],
+        ),
+        (
+            with("stress = [-1.0e6, -2.0e6, 0.0]\n", ""),
+            "[initial_stress]",
+            vec!["[initial_stress]: key `stress`: missing (required)"],
+        ),
+        (
+            with("[initial_stress]", "[[initial_stress]]"),
+            "[[initial_stress]]",
+            vec!["[initial_stress]: must be a single table (write [initial_stress], not [[initial_stress]])"],
+        ),
+        (
+            format!("initial_stress = -1.0e6\n{EXAMPLE}"),
+            "initial_stress = ",
+            vec!["[initial_stress]: must be a table, got float -1000000"],
+        ),
+    ];
+    for (text, line_of, expect) in cases {
+        let mut expect = expect.clone();
+        let at = at_line(&text, line_of);
+        expect.push(&at);
+        assert_rejected(expect[0], &text, &expect);
+    }
+}
+
+/// Every bad `[[block]] holes`: one line naming the block, the key, the hole, the reason
+/// and the file and line (that of `holes`).
+#[test]
+fn hole_errors() {
+    let place = "[[block]] \"base\": key `holes`: ";
+    let cases: &[(&str, &str)] = &[
+        (
+            "[[[2.2, 0.2], [2.6, 0.2], [2.6, 0.6], [2.2, 0.6]]]",
+            "hole 1 is not strictly inside the block's polygon (a hole may not touch or cross the block's boundary)",
+        ),
+        (
+            "[[[1.8, 0.2], [2.6, 0.2], [2.6, 0.6], [1.8, 0.6]]]",
+            "hole 1 is not strictly inside the block's polygon",
+        ),
+        (
+            "[[[0.0, 0.2], [0.6, 0.2], [0.6, 0.6], [0.0, 0.6]]]",
+            "hole 1 is not strictly inside the block's polygon",
+        ),
+        (
+            "[[[0.2, 0.2], [0.6, 0.2], [0.6, 0.6], [0.2, 0.6]], [[-0.5, -0.5], [2.5, -0.5], [2.5, 1.5], [-0.5, 1.5]]]",
+            "hole 2 is not strictly inside the block's polygon",
+        ),
+        (
+            "[[[0.2, 0.2], [0.6, 0.2], [0.6, 0.6], [0.2, 0.6]], [[0.5, 0.3], [0.9, 0.3], [0.9, 0.7], [0.5, 0.7]]]",
+            "holes 1 and 2 overlap or touch",
+        ),
+        (
+            "[[[0.2, 0.2], [0.6, 0.2], [0.6, 0.6], [0.2, 0.6]], [[0.3, 0.3], [0.4, 0.3], [0.4, 0.4], [0.3, 0.4]]]",
+            "holes 1 and 2 overlap or touch",
+        ),
+        (
+            "[[[0.2, 0.2], [0.6, 0.2], [0.6, 0.6], [0.2, 0.6]], [[0.6, 0.3], [0.9, 0.3], [0.9, 0.4], [0.6, 0.4]]]",
+            "holes 1 and 2 overlap or touch",
+        ),
+        (
+            "[[[0.2, 0.2], [0.6, 0.2], [0.6, 0.6], [0.2, 0.6]], [[0.2, 0.2], [0.4, 0.4], [0.6, 0.6]]]",
+            "hole 2: degenerate polygon: all vertices are collinear",
+        ),
+        (
+            "[[[0.2, 0.2], [0.2, 0.6], [0.2, 0.6], [0.6, 0.2]]]",
+            "hole 1: degenerate polygon: vertices 2 and 3 coincide",
+        ),
+        (
+            "[[[0.2, 0.2], [0.6, 0.2], [0.4, 0.2], [0.4, 0.5]]]",
+            "hole 1: degenerate polygon: the boundary folds back on itself at vertex 2",
+        ),
+        (
+            "[[[0.2, 0.2], [0.6, 0.6], [0.2, 0.6], [0.6, 0.2]]]",
+            "hole 1: polygon self-intersects (edges 1 and 3)",
+        ),
+        (
+            "[[[0.2, 0.2], [0.2, 0.6]]]",
+            "hole 1: a polygon needs at least 3 vertices, got 2",
+        ),
+        ("[[]]", "hole 1: a polygon needs at least 3 vertices, got 0"),
+        (
+            "5",
+            "expected a list of polygons [[[x, y], …], …], got integer 5",
+        ),
+        (
+            "[[0.2, 0.2], [0.6, 0.2], [0.6, 0.6]]",
+            "hole 1: point 1: expected a pair [x, y], got float 0.2",
+        ),
+        ("[\"tunnel\"]", "hole 1: expected an array, got string \"tunnel\""),
+        (
+            "[[[0.2, 0.2], [0.6, nan], [0.6, 0.6]]]",
+            "hole 1: point 2: NaN is not allowed",
+        ),
+        (
+            "[[[0.2, 0.2], [0.6, 0.2], [0.6, 2.0e12]]]",
+            "hole 1: point 3: coordinate out of range",
+        ),
+    ];
+    for (holes, msg) in cases {
+        let text = mutate("fixed = true", &format!("fixed = true\nholes = {holes}"));
+        let at = at_line(&text, "holes = ");
+        let first = format!("{place}{msg}");
+        assert_rejected(holes, &text, &[&first, &at]);
+    }
+    // a block that crosses the hole's boundary overlaps the block with the hole
+    let text = mutate(
+        "fixed = true",
+        "fixed = true\nholes = [[[1.3, 0.2], [1.8, 0.2], [1.8, 0.6], [1.3, 0.6]]]",
+    ) + "\n[[block]]\nname = \"plug\"\nmaterial = \"limestone\"\nvertices = [[1.3, 0.2], [1.9, 0.2], [1.9, 0.6], [1.3, 0.6]]\n";
+    assert_rejected(
+        "plug across the hole",
+        &text,
+        &[
+            "[[block]] \"plug\": key `vertices`: overlaps block \"base\" (blocks may touch but not overlap)",
+            &at_line(&text, "vertices = [[1.3, 0.2]"),
+        ],
+    );
+}

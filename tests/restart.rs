@@ -382,3 +382,277 @@ fn resumed_runs_with_bonded_joints_write_the_same_history() {
         assert_eq!(sm["iterations"], full_summary["iterations"]);
     }
 }
+
+/// Points `[[x, y], …]` in TOML.
+fn toml_points(p: &[[f64; 2]]) -> String {
+    let v: Vec<String> = p
+        .iter()
+        .map(|x| format!("[{:?}, {:?}]", x[0], x[1]))
+        .collect();
+    format!("[{}]", v.join(", "))
+}
+
+/// A regular octagon of radius 0.7 around `c`.
+fn octagon(c: [f64; 2]) -> Vec<[f64; 2]> {
+    (0..8)
+        .map(|k| {
+            let t = 0.3 + std::f64::consts::TAU * k as f64 / 8.0;
+            [c[0] + 0.7 * t.cos(), c[1] + 0.7 * t.sin()]
+        })
+        .collect()
+}
+
+/// Two tunnels in an 8 m × 4 m rock under the in-situ stress σ₀ = (−2, −3, 0.5) MPa (its
+/// edges loaded by σ₀·n, three point constraints against rigid motion; E = 1 GPa, cover
+/// 0.2 m): the west tunnel drawn as a hole in the rock and its plug, the east one as a
+/// closed `[[joint]]` loop "east" that cuts it out of the rock. Dynamic stages of 1 ms:
+/// `insitu` (10 steps: nothing moves), `west` (excavates the plug; 15 steps), `support`
+/// (the bolt b1 above the west tunnel installed, with `capacity`; 10 steps), `east`
+/// (excavates the loop's piece: the bolt's unknowns are numbered again; `east_steps`).
+/// Monitors: the west crown, the bolt, the east wall. The stages' ends write checkpoints
+/// at steps 10, 25, 35 and 35 + `east_steps`.
+fn tunnel_model_text(sigma0: [f64; 3], capacity: f64, east_steps: usize) -> String {
+    let (w, h) = (8.0, 4.0);
+    let west = octagon([2.5, 2.0]);
+    let mut east = octagon([5.5, 2.0]);
+    east.push(east[0]);
+    let mut t = format!(
+        "[analysis]\nmode = \"dynamic\"\ndt = 0.001\nsteps = 15\noutput_every = 5\n\
+         [cover]\nsize = 0.2\n\
+         [[material]]\nname = \"rock\"\ndensity = 2500.0\nyoung = 1.0e9\npoisson = 0.25\n\
+         [initial_stress]\nstress = [{:?}, {:?}, {:?}]\n\
+         [[block]]\nname = \"rock\"\nmaterial = \"rock\"\nvertices = {}\nholes = [{}]\n\
+         [[block]]\nname = \"plug\"\nmaterial = \"rock\"\nvertices = {}\n\
+         [[joint]]\nname = \"east\"\npoints = {}\n\
+         [[interface]]\nfriction_angle = 40.0\nnormal_penalty = 1.0e10\nshear_penalty = 1.0e10\n\
+         [[stage]]\nname = \"insitu\"\nsteps = 10\n\
+         [[stage]]\nname = \"west\"\nexcavate = [\"plug\"]\n\
+         [[stage]]\nname = \"support\"\nsteps = 10\n\
+         [[stage]]\nname = \"east\"\nexcavate = [\"east\"]\nsteps = {east_steps}\n\
+         [[bolt]]\nname = \"b1\"\npoints = [[2.5, 2.8], [2.5, 3.7]]\nstiffness = 1.0e7\n\
+         capacity = {capacity:?}\npretension = 1.0e3\nstage = \"support\"\n\
+         [[monitor]]\nname = \"crown\"\npoint = [2.5, 2.8]\n\
+         [[monitor]]\nname = \"bolt\"\nbolt = \"b1\"\n\
+         [[monitor]]\nname = \"east wall\"\npoint = [4.7, 2.0]\n",
+        sigma0[0],
+        sigma0[1],
+        sigma0[2],
+        toml_points(&[[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]]),
+        toml_points(&west),
+        toml_points(&west),
+        toml_points(&east),
+    );
+    // σ₀·n on each edge: bottom n = (0, −1), right (1, 0), top (0, 1), left (−1, 0)
+    for (e, n) in [
+        ([[0.0, 0.0], [w, 0.0]], [0.0, -1.0]),
+        ([[w, 0.0], [w, h]], [1.0, 0.0]),
+        ([[w, h], [0.0, h]], [0.0, 1.0]),
+        ([[0.0, h], [0.0, 0.0]], [-1.0, 0.0]),
+    ] {
+        let tr = [
+            sigma0[0] * n[0] + sigma0[2] * n[1],
+            sigma0[2] * n[0] + sigma0[1] * n[1],
+        ];
+        t += &format!(
+            "[[load]]\nblock = \"rock\"\nedge = {}\ntraction = [{:?}, {:?}]\n",
+            toml_points(&e),
+            tr[0],
+            tr[1]
+        );
+    }
+    for (p, c) in [([0.5, 0.0], "ux"), ([0.5, 0.0], "uy"), ([w, 3.5], "uy")] {
+        t += &format!(
+            "[[constraint]]\nblock = \"rock\"\npoint = [{:?}, {:?}]\n{c} = 0.0\n",
+            p[0], p[1]
+        );
+    }
+    t
+}
+
+const SIGMA0: [f64; 3] = [-2.0e6, -3.0e6, 0.5e6];
+
+/// The `NumberOfCells` of a VTK frame.
+fn cells(frame: &Path) -> usize {
+    let text = std::fs::read_to_string(frame).unwrap();
+    let at = text.find("NumberOfCells=\"").unwrap() + "NumberOfCells=\"".len();
+    text[at..].split('"').next().unwrap().parse().unwrap()
+}
+
+/// Checkpoints and `nmm resume` with in-situ stress and excavations: the two-tunnel model
+/// (`tunnel_model_text`) resumed from the checkpoint before the first excavation (step 10),
+/// from the one between the excavations before the bolt's installation (step 25), and
+/// from the one with the bolt installed before the second excavation (step 35), its later
+/// checkpoints, rows, frames and summary removed, writes history.csv, blocks.pvd,
+/// bolts.pvd and the last frames byte for byte as the uninterrupted run, and the same
+/// energy (`excavated` among it), iterations and steps in summary.json. Branches
+/// (`--from`): a model whose bolt and last stage differ starts from step 25 (the bolt not
+/// installed yet) and writes its own run's rows; from step 35 it is refused, naming the
+/// bolts; a model whose in-situ stress differs, or whose first excavation does, is
+/// refused naming that.
+#[test]
+fn resumed_runs_with_excavations_write_the_same_history() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = write_model(
+        dir.path(),
+        "tunnels.toml",
+        &tunnel_model_text(SIGMA0, 2.0e4, 15),
+    );
+    let full = dir.path().join("full");
+    let o = nmm(&["run", s(&model), "--out", s(&full), "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let ckpt = |d: &Path, k: usize| d.join(format!("checkpoints/step_{k:08}.ckpt"));
+    for k in [10, 25, 35, 50] {
+        assert!(ckpt(&full, k).exists(), "checkpoint {k}");
+    }
+    let reference = std::fs::read(full.join("history.csv")).unwrap();
+    let text = String::from_utf8(reference.clone()).unwrap();
+    let rows: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(
+        rows[0].join(","),
+        "step,time,crown.ux,crown.uy,crown.vx,crown.vy,bolt.force,bolt.elongation,\
+         east wall.ux,east wall.uy,east wall.vx,east wall.vy,iterations,stage"
+    );
+    assert_eq!(rows.len(), 1 + 50);
+    let at = |step: usize, col: usize| rows[step][col].parse::<f64>().unwrap();
+    // at rest in situ; the west crown falls by millimetres once the plug is gone; the bolt
+    // holds from `support` on; the east wall moves most once the east tunnel is dug
+    for row in &rows[1..=10] {
+        let u = |col: usize| row[col].parse::<f64>().unwrap().abs();
+        assert!(u(3) < 1e-9 && u(8) < 1e-9, "{row:?}");
+    }
+    assert!(at(25, 3) < -1e-3, "crown {:?}", rows[25]);
+    assert_eq!((at(25, 6), rows[26][13]), (0.0, "support"));
+    assert!(at(26, 6) > 0.0, "bolt {:?}", rows[26]);
+    let east_before = (11..=35).map(|k| at(k, 8).abs()).fold(0.0, f64::max);
+    let east_after = (36..=50).map(|k| at(k, 8).abs()).fold(0.0, f64::max);
+    assert!(east_after > 1.5 * east_before, "{east_before} {east_after}");
+    // the frames drop the excavated blocks' elements
+    let frame = |d: &Path, k: usize| d.join(format!("vtk/blocks_{k:06}.vtu"));
+    let n = [10, 25, 50].map(|k| cells(&frame(&full, k)));
+    assert!(n[0] > n[1] && n[1] > n[2], "cells {n:?}");
+    let summary = |d: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap()
+    };
+    let full_summary = summary(&full);
+    let energy = &full_summary["energy"];
+    assert!(energy["excavated"].as_f64().unwrap() > 0.0, "{energy}");
+    for from in [10, 25, 35] {
+        // the run as left at that checkpoint
+        let out = dir.path().join(format!("resumed{from}"));
+        let o = Command::new("cp")
+            .args(["-r", s(&full), s(&out)])
+            .status()
+            .unwrap();
+        assert!(o.success());
+        for k in [25, 35, 50].into_iter().filter(|&k| k > from) {
+            std::fs::remove_file(ckpt(&out, k)).unwrap();
+        }
+        let head: Vec<&str> = text.lines().take(1 + from).collect();
+        std::fs::write(out.join("history.csv"), head.join("\n") + "\n").unwrap();
+        std::fs::remove_file(out.join("summary.json")).unwrap();
+        for k in (from + 5..=50).step_by(5) {
+            std::fs::remove_file(frame(&out, k)).unwrap();
+            std::fs::remove_file(out.join(format!("vtk/bolts_{k:06}.vtu"))).unwrap();
+        }
+        let o = nmm(&["resume", s(&out), "--quiet"]);
+        assert!(
+            o.status.success(),
+            "resumed from {from}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(
+            std::fs::read(out.join("history.csv")).unwrap() == reference,
+            "resumed from {from}: history differs from the uninterrupted run's"
+        );
+        for f in [
+            "blocks.pvd",
+            "bolts.pvd",
+            "vtk/blocks_000050.vtu",
+            "vtk/bolts_000050.vtu",
+        ] {
+            assert!(
+                std::fs::read(out.join(f)).unwrap() == std::fs::read(full.join(f)).unwrap(),
+                "resumed from {from}: {f} differs"
+            );
+        }
+        let sm = summary(&out);
+        assert_eq!(sm["status"], "finished");
+        for key in ["energy", "iterations", "steps"] {
+            assert_eq!(sm[key], full_summary[key], "resumed from {from}: {key}");
+        }
+        eprintln!("resumed from step {from}: history, frames and summary energy identical");
+    }
+
+    // branches: another bolt (capacity 30 kN) and a longer last stage
+    let other = write_model(
+        dir.path(),
+        "other.toml",
+        &tunnel_model_text(SIGMA0, 3.0e4, 20),
+    );
+    let own = dir.path().join("own");
+    let o = nmm(&["run", s(&other), "--out", s(&own), "--no-vtk", "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let branch = dir.path().join("branch");
+    let o = nmm(&[
+        "run",
+        s(&other),
+        "--out",
+        s(&branch),
+        "--from",
+        s(&ckpt(&full, 25)),
+        "--no-vtk",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let lines = |d: &Path, skip: usize| -> Vec<String> {
+        std::fs::read_to_string(d.join("history.csv"))
+            .unwrap()
+            .lines()
+            .skip(skip)
+            .map(str::to_string)
+            .collect()
+    };
+    let own_rows = lines(&own, 1 + 25);
+    assert_eq!(own_rows.len(), 10 + 20);
+    assert!(
+        own_rows == lines(&branch, 1),
+        "the branch differs from the model's own run"
+    );
+    let refused = |model: &Path, from: usize, what: &str| {
+        let o = nmm(&[
+            "run",
+            s(model),
+            "--out",
+            s(&dir.path().join("refused")),
+            "--from",
+            s(&ckpt(&full, from)),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{what}: accepted");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(
+            err.contains("cannot start from") && err.contains(what),
+            "{what}: {err}"
+        );
+    };
+    refused(&other, 35, "the model differs in bolts (");
+    let stressed = write_model(
+        dir.path(),
+        "stressed.toml",
+        &tunnel_model_text([-2.0e6, -3.5e6, 0.5e6], 2.0e4, 15),
+    );
+    refused(&stressed, 10, "the model differs in initial stress (");
+    let swapped = write_model(
+        dir.path(),
+        "swapped.toml",
+        &tunnel_model_text(SIGMA0, 2.0e4, 15)
+            .replace("excavate = [\"plug\"]", "excavate = [\"PLUG\"]")
+            .replace("excavate = [\"east\"]", "excavate = [\"plug\"]")
+            .replace("excavate = [\"PLUG\"]", "excavate = [\"east\"]"),
+    );
+    refused(
+        &swapped,
+        25,
+        "the model differs in stage #2 (stage \"west\") (",
+    );
+}

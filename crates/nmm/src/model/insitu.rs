@@ -139,20 +139,32 @@ pub(crate) fn initial_stress(root: &Doc) -> R<Option<InitialStress>> {
     }))
 }
 
+/// What a name that is no block's means in `excavate`.
+enum Loop {
+    /// No `[[joint]]` has that name.
+    NoJoint,
+    /// A `[[joint]]` whose last point is not its first.
+    Open,
+    /// A closed `[[joint]]` loop: the blocks whose polygon lies inside it.
+    Inside(Vec<usize>),
+}
+
 /// The blocks a closed `[[joint]]` loop named `name` cut out: those whose polygon lies
-/// inside it (`None`: no such joint, or it is not closed).
-fn inside_loop(name: &str, joints: &[Joint], blocks: &[Block], tol: f64) -> Option<Vec<usize>> {
-    let j = joints.iter().find(|j| j.name == name)?;
+/// inside it.
+fn inside_loop(name: &str, joints: &[Joint], blocks: &[Block], tol: f64) -> Loop {
+    let Some(j) = joints.iter().find(|j| j.name == name) else {
+        return Loop::NoJoint;
+    };
     let JointKind::Polyline { points } = &j.kind else {
-        return None;
+        return Loop::NoJoint;
     };
     let closed =
         points.len() >= 4 && crate::geometry::dist(points[0], points[points.len() - 1]) <= tol;
     if !closed {
-        return None;
+        return Loop::Open;
     }
     let ring = &points[..points.len() - 1];
-    Some(
+    Loop::Inside(
         (0..blocks.len())
             .filter(|&b| {
                 blocks[b]
@@ -194,14 +206,24 @@ pub(crate) fn excavations(
             let named: Vec<usize> = match names.get(name) {
                 Some((set, _)) => set.to_vec(),
                 None => match inside_loop(name, joints, blocks, tol) {
-                    Some(set) if !set.is_empty() => set,
-                    Some(_) => {
+                    Loop::Inside(set) if !set.is_empty() => set,
+                    Loop::Inside(_) => {
                         return Err(f.err(
                             "excavate",
-                            format!("the closed joint loop {name:?} encloses no block"),
+                            format!(
+                                "the closed joint loop {name:?} encloses no block (a [[joint]] cuts the blocks of its `blocks`, by default every block that is not fixed)"
+                            ),
                         ))
                     }
-                    None => {
+                    Loop::Open => {
+                        return Err(f.err(
+                            "excavate",
+                            format!(
+                                "no block is named {name:?}, and [[joint]] {name:?} is not a closed loop (to cut out a region its last point must repeat its first)"
+                            ),
+                        ))
+                    }
+                    Loop::NoJoint => {
                         return Err(f.err(
                             "excavate",
                             format!(

@@ -251,22 +251,24 @@ impl<'a> Fields<'a> {
 }
 
 /// A single top-level table such as `[analysis]` (`None` if absent).
-pub(crate) fn table<'a>(root: &'a Table, key: &str) -> R<Option<&'a Table>> {
+pub(crate) fn table<'a>(root: &'a super::lines::Doc<'a>, key: &str) -> R<Option<&'a Table>> {
     match root.get(key) {
         None => Ok(None),
         Some(Value::Table(t)) => Ok(Some(t)),
         Some(Value::Array(_)) => Err(error(format!(
-            "[{key}]: must be a single table (write [{key}], not [[{key}]])"
+            "[{key}]: must be a single table (write [{key}], not [[{key}]]){}",
+            root.at_top(key)
         ))),
         Some(other) => Err(error(format!(
-            "[{key}]: must be a table, got {}",
-            describe(other)
+            "[{key}]: must be a table, got {}{}",
+            describe(other),
+            root.at_top(key)
         ))),
     }
 }
 
 /// A top-level array of tables such as `[[block]]` (empty if absent).
-pub(crate) fn array_of_tables<'a>(root: &'a Table, key: &str) -> R<Vec<&'a Table>> {
+pub(crate) fn array_of_tables<'a>(root: &'a super::lines::Doc<'a>, key: &str) -> R<Vec<&'a Table>> {
     match root.get(key) {
         None => Ok(Vec::new()),
         Some(Value::Array(items)) => items
@@ -275,18 +277,21 @@ pub(crate) fn array_of_tables<'a>(root: &'a Table, key: &str) -> R<Vec<&'a Table
             .map(|(i, v)| match v {
                 Value::Table(t) => Ok(t),
                 other => Err(error(format!(
-                    "[[{key}]] #{}: must be a table, got {}",
+                    "[[{key}]] #{}: must be a table, got {}{}",
                     i + 1,
-                    describe(other)
+                    describe(other),
+                    root.at_top(key)
                 ))),
             })
             .collect(),
         Some(Value::Table(_)) => Err(error(format!(
-            "[[{key}]]: must be an array of tables (write [[{key}]], not [{key}])"
+            "[[{key}]]: must be an array of tables (write [[{key}]], not [{key}]){}",
+            root.at_top(key)
         ))),
         Some(other) => Err(error(format!(
-            "[[{key}]]: must be an array of tables, got {}",
-            describe(other)
+            "[[{key}]]: must be an array of tables, got {}{}",
+            describe(other),
+            root.at_top(key)
         ))),
     }
 }

@@ -141,6 +141,10 @@ pub fn part_fingerprints(model: &Model, stage: usize) -> Vec<(String, Option<u64
         ),
         ("materials".to_string(), Some(hash_debug(&model.materials))),
     ];
+    if let Some(s) = &model.initial_stress {
+        // the elements' stress and the contacts' in-situ offsets start from it
+        parts.push(("initial stress".to_string(), Some(hash_debug(s))));
+    }
     if !model.bolts.is_empty() {
         // the bolts installed by the end of `stage` (their state is saved)
         let installed: Vec<_> = model
@@ -453,7 +457,6 @@ impl Simulation {
     /// Restore a state written by [`Simulation::encode_state`] into a simulation freshly
     /// made from the same blocks, covers and materials.
     fn decode_state(&mut self, r: &mut Rd) -> Res<()> {
-        let n = self.n_dofs();
         self.step = r.us()?;
         self.time = r.f()?;
         let stage = r.us()?;
@@ -467,6 +470,8 @@ impl Simulation {
         self.scale_constraint_penalties();
         // the blocks excavated up to this stage are gone (their unknowns too)
         self.excavate_through(stage);
+        // the unknowns that remain after the excavations
+        let n = self.n_dofs();
         self.time_origin = r.f()?;
         self.full_steps = r.u64()?;
         self.partial = r.f()?;
@@ -837,23 +842,37 @@ impl Checkpoint {
     }
 
     /// What differs between the saved state's defining parts and `model`'s (empty: the
-    /// model can start from this checkpoint), by part name.
+    /// model can start from this checkpoint), by part name: the parts other than stages by
+    /// their names (a part that one side has and the other not differs), then the stages in
+    /// order.
     pub fn differences(&self, model: &Model) -> Vec<String> {
         let mine = part_fingerprints(model, self.stage);
-        self.parts
-            .iter()
-            .zip(&mine)
-            .filter(|(a, b)| a.1 != b.1)
-            .map(|(a, b)| {
-                if b.1.is_none() {
-                    format!("{} (the new model has no such stage)", a.0)
-                } else if a.0 != b.0 {
-                    format!("{} (now {})", a.0, b.0)
-                } else {
-                    a.0.clone()
-                }
-            })
-            .collect()
+        let is_stage = |p: &&(String, Option<u64>)| p.0.starts_with("stage #");
+        let mut out: Vec<String> = Vec::new();
+        for (name, h) in self.parts.iter().filter(|p| !is_stage(p)) {
+            match mine.iter().find(|p| p.0 == *name) {
+                Some(p) if p.1 == *h => {}
+                Some(_) => out.push(name.clone()),
+                None => out.push(format!("{name} (the new model has none)")),
+            }
+        }
+        for (name, _) in mine.iter().filter(|p| !is_stage(p)) {
+            if !self.parts.iter().any(|p| p.0 == *name) {
+                out.push(format!("{name} (the saved run had none)"));
+            }
+        }
+        let theirs = self.parts.iter().filter(is_stage);
+        let ours = mine.iter().filter(is_stage);
+        out.extend(theirs.zip(ours).filter(|(a, b)| a.1 != b.1).map(|(a, b)| {
+            if b.1.is_none() {
+                format!("{} (the new model has no such stage)", a.0)
+            } else if a.0 != b.0 {
+                format!("{} (now {})", a.0, b.0)
+            } else {
+                a.0.clone()
+            }
+        }));
+        out
     }
 }
 

@@ -88,8 +88,14 @@ impl Simulation {
             .filter(|&ei| self.is_excavated(self.disc.elements[ei].block))
             .collect();
         // the energy they take with them: elastic, and kinetic ½ vᵀMv of their unknowns
-        // (on the last step's mass matrix; zero before the first step and after a static one)
+        // (zero before the first step and after a static one), on the mass matrix of the
+        // current geometry: assembled here (once per step: the next step's own if nothing
+        // is excavated), so that a run resumed from a checkpoint at a stage's end, whose
+        // solver has assembled nothing yet, books the same as the run that went on
         let mut taken = self.elastic_energy_of(&gone);
+        if self.v.iter().any(|&x| x != 0.0) {
+            self.assemble_step_parts();
+        }
         let lp = &self.linear;
         if lp.m.len() == lp.tangent.element().nnz() && self.v.iter().any(|&x| x != 0.0) {
             let mut removed = vec![false; self.v.len()];

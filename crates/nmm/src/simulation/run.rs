@@ -397,7 +397,7 @@ pub fn branch_start(model: &Model, source: &str, checkpoint: &Path) -> Result<St
     let diff = ckpt.differences(model);
     if !diff.is_empty() {
         return Err(format!(
-            "{source}: cannot start from {}: the model differs in {} (a branch keeps the saved run's blocks, joints, cover, materials and stages up to the checkpoint)",
+            "{source}: cannot start from {}: the model differs in {} (a branch keeps the saved run's blocks, joints, cover, materials, initial stress, installed bolts and stages up to the checkpoint)",
             checkpoint.display(),
             diff.join(", ")
         ));

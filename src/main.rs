@@ -271,6 +271,9 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
     for line in nmm::check::interface_law_lines(m) {
         println!("{line}");
     }
+    for line in nmm::check::insitu_and_bolt_lines(m) {
+        println!("{line}");
+    }
     if m.stages.is_empty() {
         println!(
             "analysis: {:?}, dt = {} s, {} steps, friction {:?}",
@@ -280,13 +283,14 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
     for st in &m.stages {
         let a = &st.analysis;
         println!(
-            "stage \"{}\": {:?}, dt = {} s, {} steps, friction {:?}{}",
+            "stage \"{}\": {:?}, dt = {} s, {} steps, friction {:?}{}{}",
             st.name,
             a.mode,
             a.dt,
             a.steps,
             a.friction,
-            if st.base_motion { ", base motion" } else { "" }
+            if st.base_motion { ", base motion" } else { "" },
+            nmm::check::excavation_suffix(m, st)
         );
     }
     let mut covers = vec![0usize; m.blocks.len()];
@@ -295,10 +299,15 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
     }
     for (i, b) in m.blocks.iter().enumerate() {
         println!(
-            "  block \"{}\": {} covers, {} elements{}",
+            "  block \"{}\": {} covers, {} elements{}{}",
             b.name,
             covers[i],
             sim.disc.block_elements[i].len(),
+            match b.holes.len() {
+                0 => String::new(),
+                1 => ", 1 hole".to_string(),
+                n => format!(", {n} holes"),
+            },
             if b.fixed { ", fixed" } else { "" }
         );
     }

@@ -828,6 +828,10 @@ fn the_bolted_example_is_accepted() {
     let (ok, stdout, stderr) = check(&path);
     assert!(ok, "{stderr}");
     assert!(stdout.contains("blocks: 3"), "{stdout}");
+    assert!(
+        stdout.contains("bolt \"b1\": [0.5, 1.25] in block \"slider\" to [0.5, 0.5] in block \"base\", stiffness 100000000 N/m, capacity 200000 N, pretension 200000 N, installed at the start of stage \"support\""),
+        "{stdout}"
+    );
 }
 
 /// Every bad `[[bolt]]` (and a monitor of a bolt that does not exist): one line naming the
@@ -971,8 +975,8 @@ const CAVE: &str = "\n[[joint]]\nname = \"cave\"\npoints = [[1.3, 0.2], [1.8, 0.
 fn the_excavated_example_is_accepted() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("model.toml");
-    for (case, text, blocks) in [
-        ("a block", dug("", "", ""), "blocks: 3 (1 fixed)"),
+    for (case, text, lines) in [
+        ("a block", dug("", "", ""), &["blocks: 3 (1 fixed)"][..]),
         (
             "pieces and a joint loop",
             dug_from(
@@ -982,7 +986,7 @@ fn the_excavated_example_is_accepted() {
                 "",
             )
             .replacen("interface = [\"slider\", \"base\"]", "interface = [\"slider.1\", \"base.2\"]", 1),
-            "blocks: 12 (2 fixed)",
+            &["blocks: 12 (2 fixed)"][..],
         ),
         (
             "a hole, its plug and in-situ stress",
@@ -997,13 +1001,22 @@ fn the_excavated_example_is_accepted() {
                 "fixed = true\nholes = [[[1.3, 0.2], [1.3, 0.6], [1.8, 0.6], [1.8, 0.2]]]",
                 1,
             ),
-            "blocks: 4 (1 fixed)",
+            &[
+                "blocks: 4 (1 fixed)",
+                // nmm check says what the model holds: the in-situ stress, the hole, what a
+                // stage excavates
+                "initial stress: [-1000000.0, -2000000.0, 0.0] Pa at y = 1.5 m, gradient [10000.0, 20000.0, 0.0] Pa/m",
+                ", 1 hole, fixed",
+                ", excavates \"plug\"",
+            ][..],
         ),
     ] {
         std::fs::write(&path, &text).unwrap();
         let (ok, stdout, stderr) = check(&path);
         assert!(ok, "{case}: {stderr}");
-        assert!(stdout.contains(blocks), "{case}: {stdout}");
+        for l in lines {
+            assert!(stdout.contains(l), "{case}: {l:?} in {stdout}");
+        }
     }
 }
 

@@ -163,3 +163,49 @@ pub fn interface_law_lines(m: &crate::model::Model) -> Vec<String> {
         })
         .collect()
 }
+
+/// The in-situ stress and the bolts for `nmm check`: `initial stress: [σxx, σyy, τxy] Pa at
+/// y = y_ref, gradient [..] Pa/m` (nothing without `[initial_stress]`), then one line per
+/// `[[bolt]]` with its anchors' blocks, stiffness, capacity, pretension and installation.
+pub fn insitu_and_bolt_lines(m: &crate::model::Model) -> Vec<String> {
+    let mut out = Vec::new();
+    if let Some(s) = &m.initial_stress {
+        out.push(format!(
+            "initial stress: {:?} Pa at y = {} m, gradient {:?} Pa/m (tension positive)",
+            s.stress, s.y_ref, s.gradient
+        ));
+    }
+    for b in &m.bolts {
+        let when = match b.stage {
+            Some(k) => format!("installed at the start of stage {:?}", m.stages[k].name),
+            None => "installed from the start".to_string(),
+        };
+        out.push(format!(
+            "bolt {:?}: [{}, {}] in block {:?} to [{}, {}] in block {:?}, stiffness {} N/m, capacity {} N, pretension {} N, {when}",
+            b.name,
+            b.points[0][0],
+            b.points[0][1],
+            m.blocks[b.blocks[0]].name,
+            b.points[1][0],
+            b.points[1][1],
+            m.blocks[b.blocks[1]].name,
+            b.stiffness,
+            b.capacity,
+            b.pretension
+        ));
+    }
+    out
+}
+
+/// `, excavates "a", "b"` for a stage that excavates blocks (empty otherwise).
+pub fn excavation_suffix(m: &crate::model::Model, stage: &crate::model::Stage) -> String {
+    if stage.excavate.is_empty() {
+        return String::new();
+    }
+    let names: Vec<String> = stage
+        .excavate
+        .iter()
+        .map(|&b| format!("{:?}", m.blocks[b].name))
+        .collect();
+    format!(", excavates {}", names.join(", "))
+}

@@ -47,7 +47,8 @@
 //!    the merged block would lie on both sides of the trace and keep its face on its own
 //!    boundary: a step that keys into the blocks around it (a face sliver merged across a
 //!    persistent bedding plane into the block above). A small piece without a safe
-//!    neighbour is kept as it is and reported in [`Cut::kept`].
+//!    neighbour is kept and reported in [`Cut::kept`] as it ends (a smaller piece may
+//!    still merge into it; one that then merges on or reaches `min_area` is not kept).
 //! 9. **Output**: vertices of degree 2 that are not corners of `P`, between two collinear
 //!    edges of the same origin (a crack's root on an edge, a junction whose other edges
 //!    were removed) are dropped. Each piece is CCW, starts at its lowest-then-leftmost
@@ -123,7 +124,7 @@ pub struct Cut {
     /// `into` (a piece with a hole is not a simple polygon).
     pub enclosed: Vec<Merge>,
     /// Pieces smaller than `min_area` kept because every merge would bridge a joint
-    /// (module doc, step 8); `into` is the piece itself.
+    /// (module doc, step 8); `into` is the piece itself, `area` and `centroid` its own.
     pub kept: Vec<Merge>,
 }
 
@@ -690,6 +691,11 @@ pub fn cut_region(
             for (root, area, centroid, b) in merges {
                 merged.push((final_of_root.get(&root).copied(), area, centroid, b));
             }
+            // a kept piece that a merge enclosed is gone (it joins `merged` below, as enclosed)
+            kept_small = kept_small
+                .into_iter()
+                .filter_map(|(root, a, c)| final_of_root.get(&root).map(|&nf| (nf, a, c)))
+                .collect();
             merged.extend(enclosed.into_iter().map(|(a, c)| (None, a, c, None)));
             fcs = f2;
         }
@@ -850,10 +856,14 @@ pub fn cut_region(
             }
         })
         .collect();
+    // `into` is the kept piece itself, through its face (its centroid may lie outside it)
     let kept = kept_small
         .into_iter()
-        .map(|(_, area, centroid)| Merge {
-            into: index.locate(centroid),
+        .map(|(f, area, centroid)| Merge {
+            into: final_index
+                .get(&f)
+                .copied()
+                .unwrap_or_else(|| index.locate(centroid)),
             area,
             centroid,
             bridges: None,
@@ -1206,14 +1216,16 @@ fn remove_islands(
 }
 
 /// What [`merge_small`] returns: (root face merged into, area, centroid) per merge, the
-/// root of every face, and (root face, area, centroid) of each small piece kept.
+/// root of every face, and (root face, area, centroid) of each small piece kept, as it is
+/// once merging is over (it may have absorbed smaller pieces).
 /// A merge: (root face merged into, area, centroid, the trace it bridges if any).
 type MergeNote = (u32, f64, Vec2, Option<u32>);
 type Merged = (Vec<MergeNote>, Vec<u32>, Vec<(u32, f64, Vec2)>);
 
 /// Merge pieces smaller than `min` (module doc, step 8): marks the edges between merged
 /// pieces dead and returns (root face of the piece merged into, area, centroid) per merge,
-/// the root of every face, and the small pieces kept because no merge was safe.
+/// the root of every face, and the small pieces kept because no merge was safe (those
+/// still below `min` at the end, with their final area and centroid).
 fn merge_small(
     pos: &[Vec2],
     edges: &mut [Edge],
@@ -1231,7 +1243,9 @@ fn merge_small(
             at_vertex.entry(ed.v[1]).or_default().push(e as u32);
         }
     }
-    let mut kept = Vec::new();
+    // roots found without a safe neighbour; reported at the end if still roots below `min`
+    // (a kept piece may still absorb a smaller one, and then merge or outgrow `min`)
+    let mut no_safe = vec![false; nf];
     let mut bridging: Vec<(usize, u32)> = Vec::new();
     let polys: Vec<Vec<Vec2>> = fcs.iter().map(|f| face_polygon(pos, edges, f)).collect();
     let piece: Vec<bool> = lay.material.clone();
@@ -1324,7 +1338,7 @@ fn merge_small(
         safe.retain(|s| s.2.is_none() == clean);
         let Some(&(into, _, bridges)) = safe.iter().reduce(|x, y| if y.1 > x.1 { y } else { x })
         else {
-            kept.push((f, a, c));
+            no_safe[f as usize] = true;
             continue;
         };
         if let Some(t) = bridges {
@@ -1364,6 +1378,15 @@ fn merge_small(
         .map(|((into, a, c), b)| (dsu.find(into), a, c, b))
         .collect();
     let root_of = (0..nf as u32).map(|f| dsu.find(f)).collect();
+    // the kept pieces as they ended: still roots, still below the minimum
+    let kept = (0..nf as u32)
+        .filter(|&f| no_safe[f as usize] && dsu.find(f) == f)
+        .filter_map(|f| {
+            let a = area[f as usize];
+            let m = moment[f as usize];
+            (a < min).then(|| (f, a, [m[0] / a, m[1] / a]))
+        })
+        .collect();
     (out, root_of, kept)
 }
 

@@ -360,10 +360,10 @@ fn ngon(n: usize, r: f64, c: [f64; 2], t0: f64) -> Vec<[f64; 2]> {
 /// iteration; without the contacts' in-situ forces 5e-3 of it, printed).
 ///
 /// The plug's corners are the hard part: a mesh line (h = 0.4) or a joint (h = 0.2)
-/// passes within 1e-3 m of an octagon corner, so one face at the corner is refined into
-/// a segment of a few 10⁻⁴ m on both blocks. Before the narrow phase chose, at a vertex
+/// crosses a face of the octagon 6e-4 m or 7e-3 m from its corner, so that face is
+/// refined at the corner into a short segment on both blocks. Before the narrow phase chose, at a vertex
 /// of B, the face A's long edge runs along (`contact/narrow.rs`, rule 4), the corner's
-/// contact took the tiny segment (by the order of B's segments): its force, mostly that
+/// contact took the short segment (by the order of B's segments): its force, mostly that
 /// of the long edge, stood at 45° to its normal, beyond friction; it slid, and the model
 /// moved (order 1) 1.4e-2 of σL/E at h = 0.2 and 1.0 at h = 0.4, (order 0) 1.6e-2 at
 /// h = 0.4, with 112, 123 and 202 contact branch changes in the two steps (without the

@@ -56,11 +56,12 @@
 //!    at `P` run furthest (parallel within `fit_angle`, projected and clipped to the
 //!    segment) wins: the contact then stands for the interface it mostly carries.
 //!    Left to the order of `B`'s segments, a corner of `A` whose edge on one side
-//!    runs a few 10⁻⁴ m to the next refinement point of `B` (a mesh line just past
-//!    the corner) took that tiny segment: its tributary length, and so its springs,
-//!    a few 10⁻⁴ of the other's, and under in-situ stress its force (mostly from the
-//!    long edge, normal to the *other* face) at 45° to its normal at an octagon's
-//!    corner, beyond friction: the contact slid and the model moved.
+//!    runs only to a refinement point of `B` just past the corner (a mesh line or a
+//!    joint crossing the face 10⁻³–10⁻² of its length from the corner) took that
+//!    short segment: its tributary length, and so its springs, 10⁻³–10⁻¹ of the
+//!    other's, and under in-situ stress its force (mostly from the long edge, normal
+//!    to the *other* face) at about 45° to its normal at an octagon's corner, beyond
+//!    friction: the contact slid and the model moved (`tests/tunnel.rs`).
 //!
 //! For long polylines `B`, segments are bucketed per call in a uniform grid of
 //! cells (a sorted list of `(cell, segment)` keys), so each vertex query costs

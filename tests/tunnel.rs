@@ -351,36 +351,42 @@ fn ngon(n: usize, r: f64, c: [f64; 2], t0: f64) -> Vec<[f64; 2]> {
 /// octagonal hole and its plug, both cut by two joint sets (30° and 120°), under
 /// σ₀ = (−3, −5, 1) MPa (a shear stress on every joint: mobilised friction 21° at most,
 /// against φ = 40°), its edges loaded by σ₀·n, three point constraints against rigid
-/// motion: two static steps at constant and at first-order covers. Every face between two
-/// blocks meets its neighbour vertex for vertex, so the contacts carry exactly the
-/// consistent forces of σ₀·n (the octagon's reflex corners, which make no contact of their
-/// own, through the plug's corners), and the blocks' internal forces balance them and the
-/// loads: no cover moves more than 1e-9 of σL/E (measured: 0; without the contacts'
-/// in-situ forces 5e-3 of it, printed).
+/// motion: two static steps at constant and at first-order covers, h = 0.2 and 0.4, and
+/// the same without the joints (the rock then one block with a hole). Every face between
+/// two blocks meets its neighbour vertex for vertex, so the contacts carry exactly the
+/// consistent forces of σ₀·n (the octagon's reflex corners, which make no contact of
+/// their own, through the plug's corners), and the blocks' internal forces balance them
+/// and the loads: no cover moves more than 1e-9 of σL/E (measured: 0, no Newton
+/// iteration; without the contacts' in-situ forces 5e-3 of it, printed).
+///
+/// The plug's corners are the hard part: a mesh line (h = 0.4) or a joint (h = 0.2)
+/// crosses a face of the octagon 6e-4 m or 7e-3 m from its corner, so that face is
+/// refined at the corner into a short segment on both blocks. Before the narrow phase chose, at a vertex
+/// of B, the face A's long edge runs along (`contact/narrow.rs`, rule 4), the corner's
+/// contact took the short segment (by the order of B's segments): its force, mostly that
+/// of the long edge, stood at 45° to its normal, beyond friction; it slid, and the model
+/// moved (order 1) 1.4e-2 of σL/E at h = 0.2 and 1.0 at h = 0.4, (order 0) 1.6e-2 at
+/// h = 0.4, with 112, 123 and 202 contact branch changes in the two steps (without the
+/// joints at h = 0.4: 15 and 11).
 #[test]
 fn an_in_situ_state_with_matching_tractions_does_not_move() {
-    in_situ_state_at_rest(&[(0, 0.2)]);
+    let mut cases = Vec::new();
+    for order in [0, 1] {
+        for h in [0.2, 0.4] {
+            for jointed in [true, false] {
+                cases.push((order, h, jointed));
+            }
+        }
+    }
+    in_situ_state_at_rest(&cases);
 }
 
-/// As [`an_in_situ_state_with_matching_tractions_does_not_move`] at first-order covers: a
-/// KNOWN FAILURE, not yet understood. Measured: h = 0.2 moves 1.4e-2 of σL/E, h = 0.4
-/// 1.0 of σL/E (the whole model strains by ~3e-3 in its first step). The same rock cut by
-/// the joint sets without the hole and its plug does not move at h = 0.4, nor a rock with
-/// one or two crossing joints, nor the plug model without joints at h = 0.2 (it moves at
-/// h = 0.4), nor anything at constant covers; the Kirsch tunnel at order 1 (a 64-gon plug,
-/// hydrostatic) moves less than 1e-3 of the wall displacement. Run with `--ignored`.
-#[test]
-#[ignore]
-fn an_in_situ_state_at_rest_first_order() {
-    in_situ_state_at_rest(&[(1, 0.2), (1, 0.4)]);
-}
-
-fn in_situ_state_at_rest(cases: &[(usize, f64)]) {
+fn in_situ_state_at_rest(cases: &[(usize, f64, bool)]) {
     let (w, hgt) = (6.0, 4.0);
     let s0 = [-3.0e6, -5.0e6, 1.0e6];
     let hole = ngon(8, 0.8, [3.0, 2.0], 0.3);
     let scale = 5.0e6 * w / E;
-    for &(order, h) in cases {
+    for &(order, h, jointed) in cases {
         let mut t = format!(
             "[analysis]\nmode = \"static\"\ndt = 1.0\nsteps = 2\n\
              [cover]\nsize = {h:?}\norder = {order}\n\
@@ -388,8 +394,6 @@ fn in_situ_state_at_rest(cases: &[(usize, f64)]) {
              [initial_stress]\nstress = [{:?}, {:?}, {:?}]\n\
              [[block]]\nname = \"rock\"\nmaterial = \"rock\"\nvertices = {}\nholes = [{}]\n\
              [[block]]\nname = \"plug\"\nmaterial = \"rock\"\nvertices = {}\n\
-             [[joint_set]]\nname = \"a\"\nangle = 30.0\nspacing = 1.1\norigin = [0.05, 0.1]\n\
-             [[joint_set]]\nname = \"b\"\nangle = 120.0\nspacing = 1.3\norigin = [0.2, 0.0]\n\
              [[interface]]\nfriction_angle = 40.0\nnormal_penalty = 1.0e10\nshear_penalty = 1.0e10\n",
             s0[0],
             s0[1],
@@ -398,6 +402,10 @@ fn in_situ_state_at_rest(cases: &[(usize, f64)]) {
             pts(&hole),
             pts(&hole),
         );
+        if jointed {
+            t += "[[joint_set]]\nname = \"a\"\nangle = 30.0\nspacing = 1.1\norigin = [0.05, 0.1]\n\
+                  [[joint_set]]\nname = \"b\"\nangle = 120.0\nspacing = 1.3\norigin = [0.2, 0.0]\n";
+        }
         // σ·n on each edge: bottom n = (0, −1), right (1, 0), top (0, 1), left (−1, 0)
         for (e, n) in [
             ([[0.0, 0.0], [w, 0.0]], [0.0, -1.0]),
@@ -422,7 +430,10 @@ fn in_situ_state_at_rest(cases: &[(usize, f64)]) {
         let model = parse_model(&t, Path::new(".")).unwrap();
         let pieces = model.blocks.len();
         let with_holes = model.blocks.iter().filter(|b| !b.holes.is_empty()).count();
-        assert!(pieces > 10, "{pieces} blocks");
+        assert!(
+            if jointed { pieces > 10 } else { pieces == 2 },
+            "{pieces} blocks"
+        );
         let mut sim = Simulation::new(model).unwrap();
         while !sim.finished() {
             sim.advance().unwrap();

@@ -50,7 +50,18 @@
 //!    `n·d`, e.g. a square corner against a square corner), the one whose strip
 //!    holds `P` deepest (largest `min(ξL, (1−ξ)L)`) wins: for a penetrating
 //!    vertex at a square corner this is the edge of *smallest penetration*, the
-//!    one the vertex came through, as in DDA.
+//!    one the vertex came through, as in DDA. If `P` is *at* a vertex of `B` (both
+//!    depths equal within round-off: faces that meet vertex for vertex, a plug in
+//!    its hole, the faces of a cut block), the segment along which `A`'s own edges
+//!    at `P` run furthest (parallel within `fit_angle`, projected and clipped to the
+//!    segment) wins: the contact then stands for the interface it mostly carries.
+//!    Left to the order of `B`'s segments, a corner of `A` whose edge on one side
+//!    runs only to a refinement point of `B` just past the corner (a mesh line or a
+//!    joint crossing the face 10⁻³–10⁻² of its length from the corner) took that
+//!    short segment: its tributary length, and so its springs, 10⁻³–10⁻¹ of the
+//!    other's, and under in-situ stress its force (mostly from the long edge, normal
+//!    to the *other* face) at about 45° to its normal at an octagon's corner, beyond
+//!    friction: the contact slid and the model moved (`tests/tunnel.rs`).
 //!
 //! For long polylines `B`, segments are bucketed per call in a uniform grid of
 //! cells (a sorted list of `(cell, segment)` keys), so each vertex query costs
@@ -405,16 +416,23 @@ fn detect(
                 || (overlap && edge_overlaps_face(&seg, c.j, c.s, [u_prev, u_next], sin_fit))
         });
         let d_a = exterior_direction(u_prev, u_next);
+        let (q_prev, q_next) = (a[la.prev(i)], a[la.next(i)]);
         let best = cands.iter().min_by(|x, y| {
             let sx = dot(seg.normal(x.j), d_a);
             let sy = dot(seg.normal(y.j), d_a);
             if (sx - sy).abs() > TIE {
-                sx.total_cmp(&sy)
-            } else {
-                let dx = x.s.min(seg.len[x.j] - x.s);
-                let dy = y.s.min(seg.len[y.j] - y.s);
-                dy.total_cmp(&dx)
+                return sx.total_cmp(&sy);
             }
+            let dx = x.s.min(seg.len[x.j] - x.s);
+            let dy = y.s.min(seg.len[y.j] - y.s);
+            if (dx - dy).abs() > on_tol {
+                return dy.total_cmp(&dx);
+            }
+            // P at a vertex of B (the faces meet vertex for vertex): the segment along
+            // which A's own edges at P run furthest
+            let ox = along(&seg, x, p, [q_prev, q_next], sin_fit);
+            let oy = along(&seg, y, p, [q_prev, q_next], sin_fit);
+            oy.total_cmp(&ox)
         });
         if let Some(c) = best {
             out.push(VertexEdge {
@@ -428,6 +446,24 @@ fn detect(
         }
     }
     out
+}
+
+/// How far A's edges from its vertex `p` to its neighbours `q` run along the candidate
+/// segment (rule 4 at a vertex of B): the projections on the segment of those parallel
+/// to it within the fit angle, clipped to it.
+fn along(seg: &Segments, c: &Candidate, p: Vec2, q: [Vec2; 2], sin_fit: f64) -> f64 {
+    let (t, l) = (seg.t[c.j], seg.len[c.j]);
+    q.iter()
+        .map(|&q| {
+            let d = sub(q, p);
+            let len = norm(d);
+            if len == 0.0 || cross(scale(d, 1.0 / len), t).abs() > sin_fit {
+                return 0.0;
+            }
+            let (s0, s1) = (c.s, c.s + dot(d, t));
+            (s0.max(s1).min(l) - s0.min(s1).max(0.0)).max(0.0)
+        })
+        .sum()
 }
 
 /// Outward direction of `A` at a vertex with unit directions `u_prev`, `u_next`
@@ -671,6 +707,56 @@ mod tests {
         let v0: Vec<_> = c.iter().filter(|v| v.vertex == 0).collect();
         assert_eq!((v0[0].segment, v0.len()), (3, 1));
         assert_relative_eq!(v0[0].gap, -5e-4, epsilon = 1e-15);
+    }
+
+    /// Rule 4 at a vertex of B: A's corner exactly at B's reflex corner (a plug in its
+    /// notch, vertex for vertex), one of the faces refined 1e-4 from the corner on both
+    /// blocks. The contact goes on the face A's long edge runs along, whichever comes
+    /// first in B's list (left to the list's order, the second case took the tiny one).
+    #[test]
+    fn a_corner_at_a_corner_takes_the_face_its_long_edge_runs_along() {
+        let e = 1e-4;
+        // the vertical face refined: B's segment 3 is (1, 1) → (1, 1 + e)
+        let b = vec![
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 1.0 + e],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
+        let a = vec![
+            [1.0, 1.0],
+            [1.5, 1.0],
+            [1.5, 1.5],
+            [1.0, 1.5],
+            [1.0, 1.0 + e],
+        ];
+        let c = vertex_edge_contacts(&a, &b, 1e-3, &[true, true, true, true, false]);
+        let v0: Vec<_> = c.iter().filter(|v| v.vertex == 0).collect();
+        assert_eq!((v0.len(), v0[0].segment), (1, 2));
+        // the horizontal face refined: B's segment 3 is (1 + e, 1) → (1, 1)
+        let b = vec![
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0 + e, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
+        let a = vec![
+            [1.0, 1.0],
+            [1.0 + e, 1.0],
+            [1.5, 1.0],
+            [1.5, 1.5],
+            [1.0, 1.5],
+        ];
+        let c = vertex_edge_contacts(&a, &b, 1e-3, &[true, false, true, true, true]);
+        let v0: Vec<_> = c.iter().filter(|v| v.vertex == 0).collect();
+        assert_eq!((v0.len(), v0[0].segment), (1, 4));
+        assert_eq!(v0[0].normal, [1.0, 0.0]);
     }
 
     /// Crossing-number point-in-polygon, the reference for the local side test.

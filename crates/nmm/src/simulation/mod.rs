@@ -45,7 +45,7 @@ mod step;
 use crate::assembly::global::{gather_into, NO_DOF};
 use crate::contact::set::ContactSet;
 use crate::cover::basis::{CoverBasis, ElementDofTable, MAX_ELEMENT_DOFS};
-use crate::cover::{discretise_with, Discretisation, MaterialPoint};
+use crate::cover::{Discretisation, MaterialPoint};
 use crate::material::{elasticity_matrix, stress as hooke, Mat3};
 use crate::model::{Mode, Model, TimeFunction};
 use crate::solver::{
@@ -322,10 +322,15 @@ impl Simulation {
         let blocks: Vec<_> = model
             .blocks
             .iter()
-            .map(|b| (b.vertices.clone(), b.fixed))
+            .map(|b| crate::cover::Shape {
+                outer: &b.vertices,
+                holes: &b.holes,
+                fixed: b.fixed,
+            })
             .collect();
-        let disc = discretise_with(
+        let disc = crate::cover::discretise_shapes(
             &blocks,
+            &[],
             model.cover_size,
             model.cover_origin,
             CoverBasis::from_order(model.cover_order).ok_or("[cover] order: must be 0 or 1")?,

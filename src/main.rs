@@ -119,6 +119,14 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // Rust ignores SIGPIPE, so that printing into a pipe its reader closed (`nmm check
+    // MODEL | head`) panics; the default action ends the program quietly instead, as any
+    // Unix tool does (a run's outputs are files, written and flushed as it goes).
+    #[cfg(unix)]
+    // SAFETY: setting a signal's disposition to its default before any thread starts
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run {

@@ -70,6 +70,44 @@ fn nothing_holds_the_model() {
     assert_eq!(warnings_of(&held), Vec::<String>::new());
 }
 
+/// A load or a constraint on a block that a stage excavates: it ends with the block (said,
+/// not refused); the same model without the excavation is silent.
+#[test]
+fn loads_and_constraints_on_an_excavated_block() {
+    let stages =
+        "[[stage]]\nname = \"settle\"\n[[stage]]\nname = \"dig\"\nexcavate = [\"slider\"]\n";
+    let staged = BASE.replace("[analysis]\ndt = 0.001\nsteps = 3\n", "[analysis]\n");
+    let load = "[[load]]\nblock = \"slider\"\npoint = [1.0, 1.25]\nforce = [10.0, 0.0]\n";
+    let constraint = "[[constraint]]\nblock = \"slider\"\npoint = [1.0, 1.25]\nux = 0.0\n";
+    let steps = "dt = 0.001\nsteps = 3\n";
+    let with_steps = |extra: &str| {
+        format!(
+            "{staged}{extra}{}",
+            stages.replace("\"\n", &format!("\"\n{steps}"))
+        )
+    };
+    assert_eq!(
+        warnings_of(&format!("{BASE}{load}{constraint}")),
+        Vec::<String>::new()
+    );
+    assert_one(
+        "a load",
+        &with_steps(load),
+        &[
+            "a [[load]] acts on block \"slider\"",
+            "[[stage]] \"dig\" excavates",
+        ],
+    );
+    assert_one(
+        "a constraint",
+        &with_steps(constraint),
+        &[
+            "a [[constraint]] acts on block \"slider\"",
+            "[[stage]] \"dig\" excavates",
+        ],
+    );
+}
+
 #[test]
 fn lengths_in_mm() {
     // the same model drawn in mm

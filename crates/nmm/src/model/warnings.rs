@@ -131,6 +131,36 @@ pub fn warnings(model: &Model) -> Vec<String> {
             }
         }
     }
+    // loads and constraints on a block that a stage excavates end with it
+    for (what, blocks) in [
+        (
+            "[[load]]",
+            model.loads.iter().map(|l| l.block).collect::<Vec<_>>(),
+        ),
+        (
+            "[[constraint]]",
+            model
+                .constraints
+                .iter()
+                .map(|c| c.block)
+                .collect::<Vec<_>>(),
+        ),
+    ] {
+        let mut seen = Vec::new();
+        for b in blocks {
+            if seen.contains(&b) {
+                continue;
+            }
+            seen.push(b);
+            if let Some(st) = model.stages.iter().find(|s| s.excavate.contains(&b)) {
+                out.push(format!(
+                    "a {what} acts on block \"{}\", which [[stage]] \"{}\" excavates: it \
+                     acts until then and is gone with the block from that stage on",
+                    model.blocks[b].name, st.name
+                ));
+            }
+        }
+    }
     // a law's own warning about its interface values (e.g. a tensile strength above the
     // apex of the Mohr–Coulomb line)
     for (k, i) in model.interfaces.iter().enumerate() {

@@ -72,6 +72,7 @@ use std::collections::HashMap;
 
 mod insitu;
 mod saved;
+mod slits;
 pub use saved::SavedContacts;
 
 /// Unknowns a contact couples with constant covers: those of the vertex's element and of
@@ -548,6 +549,146 @@ fn tributary(
     w
 }
 
+/// The rows b_N, b_S of a contact of a vertex (element `a`, weights) against a point of a
+/// segment (element `b`, weights) with normal `n` and tangent `t` (module doc), over the
+/// two elements' unknowns.
+fn contact_rows(
+    disc: &Discretisation,
+    (ea, wa): (usize, &[f64; 3]),
+    (eb, wb): (usize, &[f64; 3]),
+    n: Vec2,
+    t: Vec2,
+) -> (ContactRow<usize>, ContactRow<f64>, ContactRow<f64>) {
+    let basis = disc.basis;
+    let ne = basis.element_dofs();
+    let mut dofs = ContactRow::filled(NO_DOF, 2 * ne);
+    let mut bn = ContactRow::filled(0.0, 2 * ne);
+    let mut bs = ContactRow::filled(0.0, 2 * ne);
+    let mut ed = [NO_DOF; MAX_ELEMENT_DOFS];
+    let (mut rn, mut rs) = ([0.0; MAX_ELEMENT_DOFS], [0.0; MAX_ELEMENT_DOFS]);
+    for (side, (el, w, sign)) in [
+        (&disc.elements[ea], wa, 1.0),
+        (&disc.elements[eb], wb, -1.0),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        basis.element_dofs_into(disc, el, &mut ed[..ne]);
+        basis.directional_row(el, w, n, &mut rn[..ne]);
+        basis.directional_row(el, w, t, &mut rs[..ne]);
+        for i in 0..ne {
+            let k = ne * side + i;
+            dofs[k] = ed[i];
+            if ed[i] != NO_DOF {
+                bn[k] = sign * rn[i];
+                bs[k] = sign * rs[i];
+            }
+        }
+    }
+    (dofs, bn, bs)
+}
+
+/// A contact found by a detection, before its law and state are attached
+/// ([`ContactSet::push_contact`]).
+struct NewContact<'a> {
+    key: ContactKey,
+    segment: usize,
+    rows: (ContactRow<usize>, ContactRow<f64>, ContactRow<f64>),
+    /// Normal gap on the current geometry.
+    gap: f64,
+    /// Length of interface the contact stands for (half its tributary length).
+    weight: f64,
+    /// Springs per unit length of interface per unit penalty (2 / s̄).
+    density: f64,
+    /// (normal, tangent) of the segment.
+    frame: (Vec2, Vec2),
+    position: Vec2,
+    iface: &'a crate::model::Interface,
+    joint: Option<usize>,
+}
+
+impl ContactSet {
+    /// Attach its springs, law and state to a contact found by a detection, and keep it:
+    /// `insitu_force` is the force σ₀ puts on its vertex (only asked for a contact touching
+    /// at the start under in-situ stress).
+    fn push_contact(
+        &mut self,
+        model: &Model,
+        c: NewContact,
+        insitu_force: impl FnOnce(&crate::model::InitialStress) -> Vec2,
+    ) {
+        let NewContact {
+            key,
+            segment,
+            rows: (dofs, bn, bs),
+            gap,
+            weight,
+            density,
+            frame: (normal, tangent),
+            position,
+            iface,
+            joint,
+        } = c;
+        let (pn, ps) = (
+            iface.normal_penalty * density * weight,
+            iface.shear_penalty * density * weight,
+        );
+        // in-situ stress: the springs of a contact touching at the start carry σ₀·n
+        let (offset, gs0) = self.insitu_offset(key, gap, (pn, ps), (normal, tangent), insitu_force);
+        let gn0 = if offset != 0.0 { gap + offset } else { gap };
+        // the interface's own law, else the analysis'
+        let (law, own) = match &iface.law {
+            Some(l) => (l.law, l.law.law().own_constants(&l.values, weight)),
+            None => (model.analysis.friction, [0.0; 4]),
+        };
+        let params = FrictionParams {
+            pn,
+            ps,
+            tan_phi: iface.friction_angle.to_radians().tan(),
+            cohesion: iface.cohesion * weight,
+            // set by `apply_dashpots` once every contact of the step is known
+            dashpot: 0.0,
+            gn0,
+            own,
+        };
+        // a contact new to this step that touches: the predictor holds it closed at the
+        // first iterate (a contact of the last step keeps the state the last step found
+        // for it)
+        let touching = gap <= self.touch_tol && !self.seen.contains(&key);
+        let kept = match self.committed.get(&key) {
+            Some(&(l, h, _)) => Some((l, h)),
+            None => self.lasting.get(&key).copied(),
+        };
+        let history = match kept {
+            Some((l, h)) if l == law => h,
+            _ => law.law().new_state(touching, self.commits == 0),
+        };
+        let response = law.law().response(&params, &history, gn0, gs0);
+        self.contacts.push(Contact {
+            key,
+            segment,
+            dofs,
+            bn,
+            bs,
+            gn0,
+            gs0,
+            weight,
+            params,
+            law,
+            history,
+            touching,
+            branch: Branch::Open,
+            coef: [0.0; 4],
+            response,
+            position,
+            normal,
+            tangent,
+            joint,
+            restitution: iface.restitution,
+        });
+    }
+}
+
 impl ContactSet {
     /// Gaps up to this count as touching.
     pub fn touch_tolerance(&self) -> f64 {
@@ -570,9 +711,6 @@ impl ContactSet {
             .boundaries
             .iter()
             .any(|b| b.vertices.iter().any(|v| v.midpoint));
-        if model.blocks.len() < 2 {
-            return;
-        }
         if self.faces.len() != disc.boundaries.len() {
             // s̄: the mean segment length of the refined boundaries (midpoints, the quadrature
             // points of first-order covers, do not count: the interface is as stiff as at
@@ -727,37 +865,29 @@ impl ContactSet {
                         ve.xi,
                     );
                     let wb = barycentric(&disc.elements[eb].nodes, q);
-                    let wa = vert.at.weights;
-                    let ea = &disc.elements[vert.at.element];
-                    let mut dofs = ContactRow::filled(NO_DOF, 2 * ne);
-                    let mut bn = ContactRow::filled(0.0, 2 * ne);
-                    let mut bs = ContactRow::filled(0.0, 2 * ne);
-                    let mut ed = [NO_DOF; MAX_ELEMENT_DOFS];
-                    let (mut rn, mut rs) = ([0.0; MAX_ELEMENT_DOFS], [0.0; MAX_ELEMENT_DOFS]);
-                    for (side, (el, w, sign)) in [(ea, wa, 1.0), (&disc.elements[eb], wb, -1.0)]
-                        .into_iter()
-                        .enumerate()
-                    {
-                        basis.element_dofs_into(disc, el, &mut ed[..ne]);
-                        basis.directional_row(el, &w, ve.normal, &mut rn[..ne]);
-                        basis.directional_row(el, &w, ve.tangent, &mut rs[..ne]);
-                        for i in 0..ne {
-                            let k = ne * side + i;
-                            dofs[k] = ed[i];
-                            if ed[i] != NO_DOF {
-                                bn[k] = sign * rn[i];
-                                bs[k] = sign * rs[i];
-                            }
-                        }
-                    }
-                    let (pn, ps) = (
-                        iface.normal_penalty * density * weight,
-                        iface.shear_penalty * density * weight,
+                    let (dofs, bn, bs) = contact_rows(
+                        disc,
+                        (vert.at.element, &vert.at.weights),
+                        (eb, &wb),
+                        ve.normal,
+                        ve.tangent,
                     );
-                    // in-situ stress: the springs of a contact touching at the start carry σ₀·n
                     let tol = self.touch_tol;
-                    let (offset, gs0) =
-                        self.insitu_offset(key, ve.gap, (pn, ps), (ve.normal, ve.tangent), |s| {
+                    self.push_contact(
+                        model,
+                        NewContact {
+                            key,
+                            segment: ve.segment,
+                            rows: (dofs, bn, bs),
+                            gap: ve.gap,
+                            weight,
+                            density,
+                            frame: (ve.normal, ve.tangent),
+                            position: polys[pa][ve.vertex],
+                            iface,
+                            joint,
+                        },
+                        |s| {
                             insitu::force_on_vertex(
                                 (&polys[pa], la),
                                 ve.vertex,
@@ -766,64 +896,13 @@ impl ContactSet {
                                 s,
                                 tol,
                             )
-                        });
-                    let gn0 = if offset != 0.0 {
-                        ve.gap + offset
-                    } else {
-                        ve.gap
-                    };
-                    // the interface's own law, else the analysis'
-                    let (law, own) = match &iface.law {
-                        Some(l) => (l.law, l.law.law().own_constants(&l.values, weight)),
-                        None => (model.analysis.friction, [0.0; 4]),
-                    };
-                    let params = FrictionParams {
-                        pn,
-                        ps,
-                        tan_phi: iface.friction_angle.to_radians().tan(),
-                        cohesion: iface.cohesion * weight,
-                        // set by `apply_dashpots` once every contact of the step is known
-                        dashpot: 0.0,
-                        gn0,
-                        own,
-                    };
-                    // a contact new to this step that touches: the predictor holds it closed
-                    // at the first iterate (a contact of the last step keeps the state the
-                    // last step found for it)
-                    let touching = ve.gap <= self.touch_tol && !self.seen.contains(&key);
-                    let kept = match self.committed.get(&key) {
-                        Some(&(l, h, _)) => Some((l, h)),
-                        None => self.lasting.get(&key).copied(),
-                    };
-                    let history = match kept {
-                        Some((l, h)) if l == law => h,
-                        _ => law.law().new_state(touching, self.commits == 0),
-                    };
-                    let response = law.law().response(&params, &history, gn0, gs0);
-                    self.contacts.push(Contact {
-                        key,
-                        segment: ve.segment,
-                        dofs,
-                        bn,
-                        bs,
-                        gn0,
-                        gs0,
-                        weight,
-                        params,
-                        law,
-                        history,
-                        touching,
-                        branch: Branch::Open,
-                        coef: [0.0; 4],
-                        response,
-                        position: polys[pa][ve.vertex],
-                        normal: ve.normal,
-                        tangent: ve.tangent,
-                        joint,
-                        restitution: iface.restitution,
-                    });
+                        },
+                    );
                 }
             }
+        }
+        if !disc.slits.is_empty() {
+            self.detect_slits(disc, model, u, search, density, has_midpoints);
         }
         self.apply_dashpots();
     }

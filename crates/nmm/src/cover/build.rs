@@ -225,6 +225,7 @@ pub fn discretise_shapes_on_mesh(
         n_dofs: 0,
         basis,
         cracks: cracks.to_vec(),
+        slits: Vec::new(),
     };
     for c in cracks {
         validate_crack(c, blocks.len())?;
@@ -236,6 +237,12 @@ pub fn discretise_shapes_on_mesh(
         for bd in &mut d.boundaries {
             *bd = with_midpoints(&d.elements, bd);
         }
+    }
+    // the slits' contact vertices follow their block's boundary vertices
+    let mut next_vertex: Vec<usize> = d.boundaries.iter().map(|b| b.vertices.len()).collect();
+    for s in &mut d.slits {
+        s.first = next_vertex[s.block];
+        next_vertex[s.block] += s.vertex_count();
     }
     // Dof numbering: covers are already block by block, node by node; at order 1 less the
     // higher terms removed for linear dependence.
@@ -709,6 +716,40 @@ fn build_block(
     // Refined boundary.
     let boundary = refine_boundary(d, &map, b, &loops)?;
     d.boundaries.push(boundary);
+
+    // The faces of the block's cracks.
+    if !cracks.is_empty() {
+        let midpoints = d.basis != CoverBasis::Constant;
+        let mut slits = Vec::new();
+        for (ci, c) in d.cracks.iter().enumerate().filter(|(_, c)| c.block == b) {
+            let others: Vec<(Vec2, Vec2)> = d
+                .cracks
+                .iter()
+                .enumerate()
+                .filter(|&(k, o)| k != ci && o.block == b)
+                .flat_map(|(_, o)| o.points.windows(2).map(|w| (w[0], w[1])))
+                .collect();
+            let pts = super::slit::refine(&c.points, &others, mesh.origin, h, EDGE_TOL * h);
+            let nearest = |x: Vec2| nearest_element(d, &map, x);
+            let mut faces = Vec::with_capacity(2);
+            for side in [1.0, -1.0] {
+                faces.push(
+                    super::slit::face(&pts, side, h, &d.elements, midpoints, &nearest)
+                        .map_err(|e| DiscretiseError(format!("block {b}, crack {ci}: {e}")))?,
+                );
+            }
+            let f1 = faces.pop().unwrap();
+            let f0 = faces.pop().unwrap();
+            slits.push(super::slit::Slit {
+                block: b,
+                crack: ci,
+                joint: c.joint,
+                faces: [f0, f1],
+                first: 0,
+            });
+        }
+        d.slits.extend(slits);
+    }
     Ok(())
 }
 

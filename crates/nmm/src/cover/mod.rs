@@ -25,6 +25,7 @@ pub mod dependence;
 mod locate;
 pub mod mesh;
 mod removal;
+pub mod slit;
 pub mod stabilise;
 
 pub use basis::CoverBasis;
@@ -36,6 +37,7 @@ pub use build::{
 pub use crack::CoverCrack;
 pub use locate::{ElementIndex, LOCATE_TOL};
 pub use mesh::MathMesh;
+pub use slit::{Slit, SlitFace};
 
 use crate::geometry::{cross, sub, Vec2};
 
@@ -179,4 +181,7 @@ pub struct Discretisation {
     pub locate_tol: f64,
     /// The cracks that split the covers (empty for a model without cracks).
     pub cracks: Vec<CoverCrack>,
+    /// The faces of every crack ([`slit`]), block by block: contact faces of a block with
+    /// itself.
+    pub slits: Vec<Slit>,
 }

@@ -328,9 +328,19 @@ impl Simulation {
                 fixed: b.fixed,
             })
             .collect();
+        // the traces that end inside their block split its covers and are contact faces
+        let cracks: Vec<crate::cover::CoverCrack> = model
+            .cracks
+            .iter()
+            .map(|c| crate::cover::CoverCrack {
+                block: c.block,
+                joint: c.joint,
+                points: c.points.clone(),
+            })
+            .collect();
         let disc = crate::cover::discretise_shapes(
             &blocks,
-            &[],
+            &cracks,
             model.cover_size,
             model.cover_origin,
             CoverBasis::from_order(model.cover_order).ok_or("[cover] order: must be 0 or 1")?,

@@ -29,9 +29,13 @@
 //! beyond: only the ring r_in < r < r_out contributes, where ∇q = −(x − tip)/(r (r_out −
 //! r_in)). Then K_I = E′ M(mode I) / 2 and K_II = E′ M(mode II) / 2, E′ = E/(1 − ν²) in
 //! plane strain, E in plane stress (J = (K_I² + K_II²)/E′). The domain form holds for straight
-//! traction-free crack faces inside the ring and no body force there (a face in contact
-//! or under friction adds a face integral, not included: K_II of a closed, sliding crack
-//! is then approximate).
+//! traction-free crack faces inside the domain and no body force there. Faces in contact
+//! or under friction add a face integral ([`stress_intensity_with_faces`]):
+//! M −= ∫_{C₊ ∪ C₋} tᵢ uᵃᵢ,₁ q ds, t the traction the other face puts on a face (the
+//! auxiliary faces are free), each contact's force a uniform traction over its length of
+//! face, uᵃᵢ,₁ = −uᵃᵢ(r = 1, θ = ±π)/(2√r) on the faces, integrated exactly; from
+//! the divergence theorem on the domain, whose boundary is the inner contour (where the
+//! integral is M), the outer one (q = 0) and the faces.
 //!
 //! **Quadrature.** Each element polygon is split into the triangles of a fan from its
 //! first vertex (signed areas: exact for any simple polygon), each subdivided `SUBDIVISION`²
@@ -71,6 +75,19 @@ pub struct TipDomain {
     pub dir: Vec2,
     pub r_in: f64,
     pub r_out: f64,
+}
+
+/// A force on a crack face inside the integration domain: the contact force (N per metre
+/// of thickness) that the other face puts on this face's material, standing for a uniform
+/// traction over the part `span` of the face (on the crack behind the tip); `upper`: the
+/// face on the +x₂ side of the tip's frame (θ = π), else the lower one (θ = −π). The
+/// traction where the forces nearest to the tip start is taken to hold from the tip on
+/// (the faces' contacts stop about an element short of the tip).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaceForce {
+    pub span: [Vec2; 2],
+    pub force: Vec2,
+    pub upper: bool,
 }
 
 /// Elastic constants of the material at the tip.
@@ -156,9 +173,26 @@ pub fn williams(
     (u, stress, g)
 }
 
-/// (K_I, K_II) in Pa·√m from the elements around the tip (see the module doc).
+/// (K_I, K_II) in Pa·√m from the elements around the tip (see the module doc), the crack
+/// faces free of traction.
 pub fn stress_intensity<'a>(
     elements: impl IntoIterator<Item = TipElement<'a>>,
+    dom: &TipDomain,
+    m: &TipMaterial,
+) -> [f64; 2] {
+    stress_intensity_with_faces(elements, &[], 0.0, dom, m)
+}
+
+/// (K_I, K_II) in Pa·√m from the elements around the tip and the forces on the crack faces
+/// inside the domain (a closed crack, in contact or under friction): the face term
+/// −∫_{C₊ ∪ C₋} tᵢ uᵃᵢ,₁ q ds of the module doc, each force a uniform traction over its
+/// span. Within `near` of the tip the traction found at r = `near` (the sum over the spans
+/// there) stands for the forces (on an NMM mesh the element holding the tip is not split,
+/// so that the faces' contacts near it carry little: the stress passes through it).
+pub fn stress_intensity_with_faces<'a>(
+    elements: impl IntoIterator<Item = TipElement<'a>>,
+    faces: &[FaceForce],
+    near: f64,
     dom: &TipDomain,
     m: &TipMaterial,
 ) -> [f64; 2] {
@@ -222,6 +256,81 @@ pub fn stress_intensity<'a>(
                     }
                     m_int[mode] += w * val;
                 }
+            }
+        }
+    }
+    // the face term: each force as a uniform traction over its length along the face (the
+    // nearest to the tip on each face from the tip on), against uᵃ,₁ = −uᵃ(r = 1, θ)/(2√r)
+    // on the face, integrated exactly: ∫ q r^(−1/2) dr
+    let ramp = |a: f64, b: f64| -> f64 {
+        // ∫_a^b q(r) r^(−1/2) dr
+        let (a, b) = (a.max(0.0), b.min(dom.r_out));
+        if b <= a {
+            return 0.0;
+        }
+        let mut v = 0.0;
+        let (a1, b1) = (a, b.min(dom.r_in));
+        if b1 > a1 {
+            v += 2.0 * (b1.sqrt() - a1.sqrt());
+        }
+        let (a2, b2) = (a.max(dom.r_in), b);
+        if b2 > a2 {
+            let prim = |r: f64| (2.0 * dom.r_out * r.sqrt() - 2.0 / 3.0 * r * r.sqrt()) / width;
+            v += prim(b2) - prim(a2);
+        }
+        v
+    };
+    for upper in [true, false] {
+        // (start, end) in r along the face and the traction
+        let seg: Vec<(f64, f64, Vec2)> = faces
+            .iter()
+            .filter(|f| f.upper == upper)
+            .filter_map(|f| {
+                let (ra, rb) = (-to_local(f.span[0])[0], -to_local(f.span[1])[0]);
+                let (a, b) = (ra.min(rb).max(0.0), ra.max(rb));
+                let len = b - a;
+                (len > 0.0 && a < dom.r_out).then(|| {
+                    let fl = [
+                        f.force[0] * rot[0][0] + f.force[1] * rot[0][1],
+                        f.force[0] * rot[1][0] + f.force[1] * rot[1][1],
+                    ];
+                    (a, b, [fl[0] / len, fl[1] / len])
+                })
+            })
+            .collect();
+        if seg.is_empty() {
+            continue;
+        }
+        let th = if upper {
+            std::f64::consts::PI
+        } else {
+            -std::f64::consts::PI
+        };
+        let amp: [Vec2; 2] = [
+            williams(m, 1.0, 0.0, 1.0, th).0,
+            williams(m, 0.0, 1.0, 1.0, th).0,
+        ];
+        // within `near` of the tip, the traction at `near` (or where the spans start, if
+        // beyond it)
+        let r0 = seg
+            .iter()
+            .map(|s| s.0)
+            .fold(f64::INFINITY, f64::min)
+            .max(near);
+        let probe = r0 + 1e-9 * dom.r_out;
+        let inner = seg
+            .iter()
+            .filter(|s| s.0 <= probe && s.1 > probe)
+            .fold([0.0, 0.0], |a, s| [a[0] + s.2[0], a[1] + s.2[1]]);
+        let seg: Vec<(f64, f64, Vec2)> = seg
+            .into_iter()
+            .filter(|s| s.1 > r0)
+            .map(|(a, b, t)| (a.max(r0), b, t))
+            .collect();
+        for &(a, b, t) in seg.iter().chain(std::iter::once(&(0.0, r0, inner))) {
+            let i = ramp(a, b);
+            for mode in 0..2 {
+                m_int[mode] += 0.5 * (t[0] * amp[mode][0] + t[1] * amp[mode][1]) * i;
             }
         }
     }
@@ -401,5 +510,80 @@ mod tests {
                 "{k:?} vs {k1} {k2}"
             );
         }
+    }
+
+    /// A closed crack in a uniform field (σ₂₂ = −p, σ₁₂ = τ, the faces stuck): K = 0. Squares
+    /// carry the uniform field; the faces carry its traction as point forces every `s`
+    /// behind the tip. Without the face term the same field gives K of order p√r_out (it
+    /// sees the faces' traction as a load on a free crack).
+    #[test]
+    fn a_closed_crack_in_a_uniform_field_has_no_k_with_its_face_forces() {
+        let (p, tau) = (1.0e6, 0.4e6);
+        let sig = [0.0, -p, tau];
+        let d = crate::material::elasticity_matrix(M.young, M.poisson, M.plane);
+        let inv = {
+            // strain of sig: solve D e = sig (3×3)
+            let m = d;
+            let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+            let c = |r: usize, k: usize| {
+                let mut sub = [[0.0; 3]; 3];
+                for i in 0..3 {
+                    for j in 0..3 {
+                        sub[i][j] = if j == k { sig[i] } else { m[i][j] };
+                    }
+                }
+                let _ = r;
+                sub[0][0] * (sub[1][1] * sub[2][2] - sub[1][2] * sub[2][1])
+                    - sub[0][1] * (sub[1][0] * sub[2][2] - sub[1][2] * sub[2][0])
+                    + sub[0][2] * (sub[1][0] * sub[2][1] - sub[1][1] * sub[2][0])
+            };
+            [c(0, 0) / det, c(0, 1) / det, c(0, 2) / det]
+        };
+        let g = [[inv[0], 0.5 * inv[2]], [0.5 * inv[2], inv[1]]];
+        let s = 0.05;
+        let mut polys = Vec::new();
+        for i in -40..40 {
+            for j in -40..40 {
+                let (a, b) = (i as f64 * s, j as f64 * s);
+                polys.push(vec![[a, b], [a + s, b], [a + s, b + s], [a, b + s]]);
+            }
+        }
+        let dom = TipDomain {
+            tip: [0.0, 0.0],
+            dir: [1.0, 0.0],
+            r_in: 0.5,
+            r_out: 1.5,
+        };
+        let els = || {
+            polys.iter().map(|p| TipElement {
+                polygon: p,
+                stress: sig,
+                grad: g,
+            })
+        };
+        let mut faces = Vec::new();
+        for k in 0..40 {
+            let x = [-(k as f64 + 0.5) * s, 0.0];
+            // on the upper body (outward normal −e₂) the lower face pushes with −σ·e₂
+            let span = [[x[0] - 0.5 * s, 0.0], [x[0] + 0.5 * s, 0.0]];
+            faces.push(FaceForce {
+                span,
+                force: [-sig[2] * s, -sig[1] * s],
+                upper: true,
+            });
+            faces.push(FaceForce {
+                span,
+                force: [sig[2] * s, sig[1] * s],
+                upper: false,
+            });
+        }
+        let free = stress_intensity(els(), &dom, &M);
+        let closed = stress_intensity_with_faces(els(), &faces, 0.0, &dom, &M);
+        println!("uniform field: K without faces {free:?}, with {closed:?}");
+        let scale = p * dom.r_out.sqrt();
+        assert!(free[0].abs() > 0.1 * scale && free[1].abs() > 0.1 * scale);
+        assert!(closed[0].abs() < 1e-3 * scale && closed[1].abs() < 1e-3 * scale);
     }
 }

@@ -272,6 +272,7 @@ pub(crate) fn check_monitors(root: &Doc, monitors: &[Monitor], stages: &[Stage])
             }
             // a bolt is refused itself when it is anchored in an excavated block
             MonitorKind::Bolt { .. } => continue,
+            MonitorKind::Tip { block, .. } => ("crack", vec![*block]),
         };
         let hit = blocks.iter().find_map(|&b| excavated_by(b).map(|s| (b, s)));
         if let Some((_b, s)) = hit {

@@ -414,7 +414,22 @@ pub enum MonitorKind {
     Block { blocks: Vec<usize> },
     /// A rock bolt (index into `Model::bolts`): its axial force and elongation.
     Bolt { bolt: usize },
+    /// A crack tip: the stress intensity factors K_I, K_II by the interaction integral
+    /// over the ring `radii[0] < r < radii[1]` of block `block`'s elements around `tip`
+    /// ([`crate::fracture`]); `dir` is the crack's unit direction at the tip, pointing ahead
+    /// of it; `joint` the joint whose crack it is.
+    Tip {
+        block: usize,
+        joint: usize,
+        tip: Vec2,
+        dir: Vec2,
+        radii: [f64; 2],
+    },
 }
+
+/// Default inner and outer radii of a crack-tip monitor's integration ring, × the cover
+/// size h (`[[monitor]] radii` overrides them).
+pub const TIP_RADII: [f64; 2] = [3.0, 8.0];
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Monitor {

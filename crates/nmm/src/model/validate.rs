@@ -135,7 +135,14 @@ pub(crate) fn build(root: &Doc, base_dir: &Path) -> R<Model> {
     let base_motion = base_motion(root, base_dir)?;
     let stages = super::insitu::excavations(root, stages, &names, (&blocks, &joint_list, tol))?;
     let bolts = super::bolts::bolts(root, &blocks, &stages, tol)?;
-    let monitors = monitors(root, &blocks, &names, tol, &bolts)?;
+    let monitors = monitors(
+        root,
+        &blocks,
+        &names,
+        tol,
+        &bolts,
+        (&joint_list, &cutting.cracks, cov.size),
+    )?;
     super::insitu::check_monitors(root, &monitors, &stages)?;
     super::insitu::check_bolts(root, &bolts, &stages)?;
     let initial_stress = super::insitu::initial_stress(root)?;
@@ -1446,6 +1453,7 @@ fn monitors(
     names: &Names,
     tol: f64,
     bolts: &[Bolt],
+    (joints, cracks, h): (&[Joint], &[Crack], f64),
 ) -> R<Vec<Monitor>> {
     let mut out: Vec<Monitor> = Vec::new();
     let mut seen: HashSet<String> = HashSet::new();
@@ -1453,24 +1461,39 @@ fn monitors(
         let mut f = root.fields(format!("[[monitor]] #{}", k + 1), t, "monitor", Some(k));
         let name = f.name("name")?;
         f.set_place(format!("[[monitor]] {name:?}"));
-        f.deny_unknown(&["name", "point", "interface", "block", "bolt"])?;
+        f.deny_unknown(&[
+            "name",
+            "point",
+            "interface",
+            "block",
+            "bolt",
+            "crack",
+            "tip",
+            "radii",
+        ])?;
         if name.chars().any(|c| c == ',' || c == '"' || c.is_control()) {
             return Err(f.err("name", "must not contain commas, quotes or control characters (it heads history.csv columns)"));
         }
         if !seen.insert(name.clone()) {
             return Err(f.err("name", "duplicate monitor name"));
         }
-        let given = ["point", "interface", "block", "bolt"]
+        let given = ["point", "interface", "block", "bolt", "crack"]
             .into_iter()
             .filter(|k| f.has(k))
             .collect::<Vec<_>>();
         if given.len() > 1 {
             return Err(f.err(
                 given[1],
-                "give one of `point`, `interface` and `block` (or `bolt`), not several",
+                "give one of `point`, `interface`, `block`, `bolt` and `crack`, not several",
             ));
         }
+        for k in ["tip", "radii"] {
+            if f.has(k) && !f.has("crack") {
+                return Err(f.err(k, "belongs to a crack-tip monitor: give `crack` too"));
+            }
+        }
         let kind = match (f.has("point"), f.has("interface")) {
+            _ if f.has("crack") => tip_monitor(&f, blocks, tol, (joints, cracks, h))?,
             _ if f.has("bolt") => {
                 let name = f.req("bolt", string)?;
                 let bolt = bolts
@@ -1492,7 +1515,7 @@ fn monitors(
             (false, false) => {
                 return Err(f.err(
                     "point",
-                    "missing: give one of `point`, `interface` and `block` (or `bolt`)",
+                    "missing: give one of `point`, `interface`, `block`, `bolt` and `crack`",
                 ))
             }
             (true, false) => {
@@ -1516,4 +1539,78 @@ fn monitors(
         out.push(Monitor { name, kind });
     }
     Ok(out)
+}
+
+/// A crack-tip monitor: `crack` names the joint, `tip` a point within the cover size of one
+/// of its crack tips (an end inside a block; a crack's mouth on a block edge is not a tip),
+/// `radii` (optional, m) the integration ring (default [`TIP_RADII`] × h).
+fn tip_monitor(
+    f: &super::reader::Fields,
+    blocks: &[Block],
+    tol: f64,
+    (joints, cracks, h): (&[Joint], &[Crack], f64),
+) -> R<MonitorKind> {
+    let jname = f.req("crack", string)?;
+    let joint = joints
+        .iter()
+        .position(|j| j.name == jname)
+        .ok_or_else(|| f.err("crack", format!("unknown joint {jname:?}")))?;
+    let p = f.req("tip", point)?;
+    let mut best: Option<(f64, usize, Vec2, Vec2)> = None;
+    for c in cracks.iter().filter(|c| c.joint == joint) {
+        let n = c.points.len();
+        for (end, before) in [
+            (c.points[0], c.points[1]),
+            (c.points[n - 1], c.points[n - 2]),
+        ] {
+            if blocks[c.block].region().locate(end, tol) != Location::Inside {
+                continue; // a mouth on the block's boundary
+            }
+            let d = crate::geometry::dist(end, p);
+            if best.is_none_or(|b| d < b.0) {
+                let t = crate::geometry::sub(end, before);
+                let l = crate::geometry::norm(t);
+                best = Some((d, c.block, end, [t[0] / l, t[1] / l]));
+            }
+        }
+    }
+    let Some((d, block, tip, dir)) = best else {
+        return Err(f.err(
+            "crack",
+            format!("joint {jname:?} has no crack tip inside a block (its traces cut blocks through, or it ends on block edges)"),
+        ));
+    };
+    if d > h {
+        return Err(f.err(
+            "tip",
+            format!(
+                "no tip of joint {jname:?} within the cover size {} of {}: the nearest is {}",
+                fmt_num(h),
+                fmt_point(p),
+                fmt_point(tip)
+            ),
+        ));
+    }
+    let radii = match f.opt("radii", point)? {
+        None => [TIP_RADII[0] * h, TIP_RADII[1] * h],
+        Some(r) => {
+            if !(r[0] > 0.0 && r[1] > r[0] && r[1].is_finite()) {
+                return Err(f.err(
+                    "radii",
+                    format!(
+                        "[r_in, r_out] must satisfy 0 < r_in < r_out, got {}",
+                        fmt_point(r)
+                    ),
+                ));
+            }
+            r
+        }
+    };
+    Ok(MonitorKind::Tip {
+        block,
+        joint,
+        tip,
+        dir,
+        radii,
+    })
 }

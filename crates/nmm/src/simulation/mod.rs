@@ -27,6 +27,7 @@ mod run;
 mod setup;
 mod stages;
 mod static_step;
+mod tips;
 mod writers;
 
 pub use bolt_frames::bolts_grid;

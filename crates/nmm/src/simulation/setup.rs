@@ -231,7 +231,8 @@ pub(super) fn monitors(sim: &mut Simulation) -> Result<(), String> {
             )?),
             MonitorKind::Interface { .. }
             | MonitorKind::Block { .. }
-            | MonitorKind::Bolt { .. } => None,
+            | MonitorKind::Bolt { .. }
+            | MonitorKind::Tip { .. } => None,
         });
     }
     sim.monitor_points = pts;

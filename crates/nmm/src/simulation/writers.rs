@@ -17,6 +17,7 @@ pub fn history_columns(model: &Model) -> Vec<String> {
             MonitorKind::Interface { .. } => &["fx", "fy", "fn", "nc"],
             MonitorKind::Block { .. } => &["x", "y", "rotation"],
             MonitorKind::Bolt { .. } => &["force", "elongation"],
+            MonitorKind::Tip { .. } => &["KI", "KII"],
         };
         cols.extend(names.iter().map(|c| format!("{}.{}", m.name, c)));
     }
@@ -44,6 +45,16 @@ pub fn monitor_values(sim: &Simulation) -> Vec<f64> {
                 let b = &sim.bolts.bolts[*bolt];
                 vals.extend_from_slice(&[b.force, b.elongation]);
             }
+            (
+                &MonitorKind::Tip {
+                    block,
+                    tip,
+                    dir,
+                    radii,
+                    ..
+                },
+                _,
+            ) => vals.extend_from_slice(&sim.stress_intensity(block, tip, dir, radii)),
             _ => vals.extend_from_slice(&[f64::NAN; 4]),
         }
     }

@@ -247,6 +247,28 @@ fn check(path: &Path, json: bool, quiet: bool) -> anyhow::Result<ExitCode> {
     println!("manifold elements: {}", sim.disc.elements.len());
     println!("unknowns: {}", sim.n_dofs());
     println!("cracks: {}", m.cracks.len());
+    for c in nmm::check::crack_list(m) {
+        let pts = |v: &[[f64; 2]]| {
+            v.iter()
+                .map(|p| format!("[{}, {}]", p[0], p[1]))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let mut line = format!(
+            "  crack of joint \"{}\" in block \"{}\": length {:.6} m",
+            c.joint, c.block, c.length
+        );
+        if !c.tips.is_empty() {
+            line.push_str(&format!(", tip(s) {}", pts(&c.tips)));
+        }
+        if !c.mouths.is_empty() {
+            line.push_str(&format!(", on the block's boundary at {}", pts(&c.mouths)));
+        }
+        if c.tips.is_empty() && c.mouths.is_empty() {
+            line.push_str(", closed");
+        }
+        println!("{line}");
+    }
     println!(
         "block area: total {total} m², smallest {smallest} m² (block \"{}\")",
         m.blocks[smallest_at].name
@@ -407,12 +429,6 @@ fn execute(
 ) -> anyhow::Result<ExitCode> {
     if let Some(line) = cutting_line(&model) {
         eprintln!("{line}");
-        if !model.cracks.is_empty() {
-            eprintln!(
-                "warning: the {} crack(s) (traces ending inside a block) are kept as data only: they do not split the covers in this version",
-                model.cracks.len()
-            );
-        }
     }
     let stop = Arc::new(AtomicBool::new(false));
     {

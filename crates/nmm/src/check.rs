@@ -9,7 +9,8 @@ use serde_json::{json, Value};
 /// `physical_covers`, `manifold_elements`, `unknowns`, `block_area_total`,
 /// `smallest_block_area`, `smallest_block`, `stages` (the `[[stage]]` names), then
 /// `base_motion` (null without one: else one object per record, see [`record_json`]),
-/// in that order.
+/// then `crack_list` (one object per crack: `joint`, `block`, `length`, `tips`, `mouths`:
+/// [`crack_list`]), in that order.
 pub fn check_json(sim: &Simulation, model: &str) -> Value {
     let m = &sim.model;
     let areas: Vec<f64> = m.blocks.iter().map(|b| b.area()).collect();
@@ -32,7 +33,64 @@ pub fn check_json(sim: &Simulation, model: &str) -> Value {
         "smallest_block": m.blocks.get(smallest_at).map(|b| b.name.as_str()),
         "stages": m.stages.iter().map(|st| st.name.as_str()).collect::<Vec<_>>(),
         "base_motion": m.base_motion.as_ref().map(|b| b.records.iter().map(record_json).collect::<Vec<_>>()),
+        "crack_list": crack_list(m).iter().map(|c| json!({
+            "joint": c.joint,
+            "block": c.block,
+            "length": c.length,
+            "tips": c.tips,
+            "mouths": c.mouths,
+        })).collect::<Vec<_>>(),
     })
+}
+
+/// One crack as `nmm check` lists it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CrackInfo {
+    /// The joint's name.
+    pub joint: String,
+    /// The block's name.
+    pub block: String,
+    /// Length of the polyline (m).
+    pub length: f64,
+    /// Its ends inside the block (the tips).
+    pub tips: Vec<[f64; 2]>,
+    /// Its ends on the block's boundary (an edge crack's mouth, or where it meets a joint
+    /// face).
+    pub mouths: Vec<[f64; 2]>,
+}
+
+/// The model's cracks (block, joint, length, tips), in the model's order.
+pub fn crack_list(m: &crate::model::Model) -> Vec<CrackInfo> {
+    m.cracks
+        .iter()
+        .map(|c| {
+            let b = &m.blocks[c.block];
+            let size = crate::geometry::Aabb::of_points(&b.vertices).diagonal();
+            let tol = 1e-9 * size;
+            let n = c.points.len();
+            let closed = n > 2 && c.points[0] == c.points[n - 1];
+            let (mut tips, mut mouths) = (Vec::new(), Vec::new());
+            if !closed {
+                for p in [c.points[0], c.points[n - 1]] {
+                    match b.region().locate(p, tol) {
+                        crate::geometry::polygon::Location::Inside => tips.push(p),
+                        _ => mouths.push(p),
+                    }
+                }
+            }
+            CrackInfo {
+                joint: m.joints[c.joint].name.clone(),
+                block: b.name.clone(),
+                length: c
+                    .points
+                    .windows(2)
+                    .map(|w| crate::geometry::dist(w[0], w[1]))
+                    .sum(),
+                tips,
+                mouths,
+            }
+        })
+        .collect()
 }
 
 /// One base-motion record as read and as applied: `axis` ("x", "y" or "x, y"),

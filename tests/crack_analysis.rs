@@ -437,3 +437,75 @@ fn checkpoints_and_resume_are_exact_with_cracks() {
         );
     }
 }
+
+/// Bad crack-tip monitors get one line naming the monitor, the key and the line; a crack
+/// that splits no cover (inside the elements holding its tips) is warned about.
+#[test]
+fn bad_crack_tip_monitors_and_ineffective_cracks() {
+    let base = |crack: &[[f64; 2]], monitors: &str| {
+        plate(
+            [0.0, 1.0, -2.0, 2.0],
+            crack,
+            1.0e6,
+            0.1,
+            0,
+            30.0,
+            "return-mapping",
+            monitors,
+        )
+    };
+    let edge = [[-0.1, 0.0], [0.4, 0.0]];
+    for (monitor, want) in [
+        (
+            "[[monitor]]\nname = \"k\"\ncrack = \"nope\"\ntip = [0.4, 0.0]\n",
+            "unknown joint \"nope\"",
+        ),
+        (
+            "[[monitor]]\nname = \"k\"\ncrack = \"crack\"\ntip = [0.8, 0.0]\n",
+            "no tip of joint \"crack\" within the cover size 0.1 of [0.8,0]: the nearest is [0.4,0]",
+        ),
+        (
+            "[[monitor]]\nname = \"k\"\ncrack = \"crack\"\ntip = [0.4, 0.0]\nradii = [0.3, 0.2]\n",
+            "0 < r_in < r_out",
+        ),
+        (
+            "[[monitor]]\nname = \"k\"\npoint = [0.5, 0.5]\ntip = [0.4, 0.0]\n",
+            "belongs to a crack-tip monitor",
+        ),
+        (
+            "[[monitor]]\nname = \"k\"\ncrack = \"crack\"\n",
+            "tip",
+        ),
+    ] {
+        let err = parse_model(&base(&edge, monitor), Path::new("."))
+            .err()
+            .unwrap_or_else(|| panic!("accepted: {monitor}"))
+            .to_string();
+        eprintln!("{err}");
+        assert!(err.contains(want) && err.contains("[[monitor]]"), "{err}");
+        assert!(err.contains("line"), "no line: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+    // a joint through the whole plate cuts it: no crack, so no tip
+    let err = parse_model(
+        &base(
+            &[[-0.1, 0.0], [1.1, 0.0]],
+            "[[monitor]]\nname = \"k\"\ncrack = \"crack\"\ntip = [1.0, 0.0]\n",
+        ),
+        Path::new("."),
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(err.contains("has no crack tip inside a block"), "{err}");
+    // a crack inside the elements at its tips splits nothing: warned
+    let sim = Simulation::new(
+        parse_model(&base(&[[0.3, 0.01], [0.3001, 0.01]], ""), Path::new(".")).unwrap(),
+    )
+    .unwrap();
+    let w = sim.warnings();
+    assert!(
+        w.iter().any(|w| w.contains("splits no physical cover")),
+        "{w:?}"
+    );
+}

@@ -243,6 +243,15 @@ fn check_invariants(m: &Model) {
                 assert!(first.iter().all(|x| !second.contains(x)));
             }
             MonitorKind::Bolt { bolt } => assert!(*bolt < m.bolts.len()),
+            MonitorKind::Tip {
+                block,
+                joint,
+                radii,
+                ..
+            } => {
+                assert!(*block < nb && *joint < m.joints.len());
+                assert!(0.0 < radii[0] && radii[0] < radii[1]);
+            }
         }
     }
     for b in &m.bolts {

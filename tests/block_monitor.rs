@@ -102,7 +102,7 @@ fn a_block_monitor_names_an_existing_block_and_only_one_kind() {
     .to_string();
     assert!(
         e.starts_with(
-            "[[monitor]] \"s\": key `block`: give one of `point`, `interface` and `block`"
+            "[[monitor]] \"s\": key `block`: give one of `point`, `interface`, `block`, `bolt` and `crack`"
         ),
         "{e}"
     );

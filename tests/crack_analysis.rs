@@ -505,7 +505,70 @@ fn bad_crack_tip_monitors_and_ineffective_cracks() {
     .unwrap();
     let w = sim.warnings();
     assert!(
-        w.iter().any(|w| w.contains("splits no physical cover")),
+        w.iter()
+            .any(|w| w.contains("1 of 1 crack(s) split no physical cover")),
         "{w:?}"
     );
+}
+
+/// A crack of several segments (a kink) and two cracks that cross, in one plate under
+/// tension: the discretisation splits covers along all of them, every crack contact away
+/// from the tips opens (but on the crack along the load, pressed by the other's T-stress),
+/// and the kinked and the horizontal crack open at their middles (monitors 1e-7 m either
+/// side).
+#[test]
+fn kinked_and_crossing_cracks_open_under_tension() {
+    let h = 0.05;
+    // a kinked crack on the left, an X of two cracks on the right (one joint each: the
+    // crossing pair as two joints)
+    let kinked = [[0.1, 0.2], [0.3, 0.3], [0.5, 0.2]];
+    let text = plate(
+        [0.0, 2.0, -1.0, 1.0],
+        &kinked,
+        1.0e6,
+        h,
+        0,
+        30.0,
+        "return-mapping",
+        &[
+            point("ku", [0.3, 0.3 + 1e-7]),
+            point("kd", [0.3, 0.3 - 1e-7]),
+            point("xu", [1.2, -0.2 + 1e-7]),
+            point("xd", [1.2, -0.2 - 1e-7]),
+        ]
+        .concat(),
+    ) + "[[joint]]\nname = \"x1\"\npoints = [[1.1, -0.2], [1.5, -0.2]]\n\
+         [[joint]]\nname = \"x2\"\npoints = [[1.3, -0.45], [1.3, 0.05]]\n";
+    let (sim, v) = solve(&text);
+    // the crossing traces are cut at their crossing: two cracks each
+    assert!(sim.model.cracks.len() >= 3, "{:?}", sim.model.cracks);
+    assert!(sim.disc.slits.len() >= 3);
+    // in tension every crack contact farther than 2h from every tip is open
+    let tips: Vec<[f64; 2]> = sim
+        .model
+        .cracks
+        .iter()
+        .flat_map(|c| [c.points[0], *c.points.last().unwrap()])
+        .collect();
+    let loaded: Vec<_> = sim
+        .contacts
+        .contacts
+        .iter()
+        .filter(|c| c.key.0 == c.key.2)
+        .filter(|c| {
+            tips.iter()
+                .all(|&t| nmm::geometry::dist(c.position, t) > 2.0 * h)
+        })
+        .filter(|c| c.response.tn < 0.0)
+        .collect();
+    // the vertical crack x2 (joint 2), parallel to the load, is pressed shut where it
+    // crosses the horizontal one: along a crack opened by σ_yy the stress parallel to it
+    // is about −σ_yy (the T-stress of a Griffith crack); every other crack contact opens
+    let closed_x2 = loaded.iter().filter(|c| c.joint == Some(2)).count();
+    let others = loaded.len() - closed_x2;
+    eprintln!("closed crack contacts: {closed_x2} on the vertical crack, {others} elsewhere");
+    assert_eq!(others, 0);
+    let (kink, cross) = (v[1] - v[5], v[9] - v[13]);
+    eprintln!("opening of the kinked crack {kink:.4e} m, of the crossing one {cross:.4e} m");
+    assert!(kink > 1e-5 && cross > 1e-5);
 }

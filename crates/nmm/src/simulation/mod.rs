@@ -546,30 +546,35 @@ impl Simulation {
         ));
         // a crack that splits no cover (it lies within the elements holding its tips) has
         // no effect on the analysis
-        for sl in &self.disc.slits {
-            let [f0, f1] = &sl.faces;
-            let splits = f0
-                .segment_elements
-                .iter()
-                .zip(&f1.segment_elements)
-                .any(|(a, b)| a != b);
-            if !splits {
-                let c = &self.disc.cracks[sl.crack];
-                let len: f64 = c
-                    .points
-                    .windows(2)
-                    .map(|p| crate::geometry::dist(p[0], p[1]))
-                    .sum();
-                w.push(format!(
-                    "a crack of joint {:?} in block {:?} ({} m long, from [{}, {}]) splits no physical cover at [cover] size {}: it has no effect on the analysis (a smaller cover size resolves it)",
-                    self.model.joints[c.joint].name,
-                    self.model.blocks[c.block].name,
-                    format!("{len:.6}"),
-                    c.points[0][0],
-                    c.points[0][1],
-                    self.model.cover_size
-                ));
-            }
+        let idle: Vec<&crate::cover::Slit> = self
+            .disc
+            .slits
+            .iter()
+            .filter(|sl| {
+                let [f0, f1] = &sl.faces;
+                f0.segment_elements
+                    .iter()
+                    .zip(&f1.segment_elements)
+                    .all(|(a, b)| a == b)
+            })
+            .collect();
+        if let Some(first) = idle.first() {
+            let c = &self.disc.cracks[first.crack];
+            let len: f64 = c
+                .points
+                .windows(2)
+                .map(|p| crate::geometry::dist(p[0], p[1]))
+                .sum();
+            w.push(format!(
+                "{} of {} crack(s) split no physical cover at [cover] size {}: they lie within the elements holding their tips and have no effect on the analysis (a smaller cover size resolves them; the first: joint {:?} in block {:?}, {len:.6} m long, from [{}, {}])",
+                idle.len(),
+                self.disc.slits.len(),
+                self.model.cover_size,
+                self.model.joints[c.joint].name,
+                self.model.blocks[c.block].name,
+                c.points[0][0],
+                c.points[0][1],
+            ));
         }
         w
     }

@@ -26,14 +26,14 @@ use crate::cover::{barycentric, Discretisation, Slit};
 use crate::geometry::{dist, dot, lerp, norm, sub, Vec2};
 use crate::model::Model;
 
-/// The segment of `face` (current points) nearest to `p`: (segment, ξ ∈ [0, 1] of the
-/// nearest point, unclamped ξ, gap along `side`'s outward normal, normal, tangent).
-fn nearest_segment(
-    p: Vec2,
-    face: &[Vec2],
-    side: f64,
-) -> Option<(usize, f64, f64, f64, Vec2, Vec2)> {
-    let mut best: Option<(f64, (usize, f64, f64, f64, Vec2, Vec2))> = None;
+/// A vertex against its nearest segment of the other face: (segment, ξ ∈ [0, 1] of the
+/// nearest point, unclamped ξ, gap along the segment's outward normal, normal, tangent).
+type Facing = (usize, f64, f64, f64, Vec2, Vec2);
+
+/// The segment of `face` (current points) nearest to `p` ([`Facing`]), the outward normal
+/// that of face `side` (+1: face 0, −1: face 1).
+fn nearest_segment(p: Vec2, face: &[Vec2], side: f64) -> Option<Facing> {
+    let mut best: Option<(f64, Facing)> = None;
     for j in 0..face.len().saturating_sub(1) {
         let (a, b) = (face[j], face[j + 1]);
         let d = sub(b, a);

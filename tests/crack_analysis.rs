@@ -572,3 +572,40 @@ fn kinked_and_crossing_cracks_open_under_tension() {
     eprintln!("opening of the kinked crack {kink:.4e} m, of the crossing one {cross:.4e} m");
     assert!(kink > 1e-5 && cross > 1e-5);
 }
+
+/// In-situ stress with a crack: a plate with an inclined closed crack, the in-situ stress
+/// σ₀ = −1 MPa (hydrostatic) and the boundary tractions σ₀·n that hold it, stays exactly at
+/// rest — the crack faces' contacts carry σ₀·n from the start (their in-situ offsets), no
+/// Newton iteration is needed and no point moves.
+#[test]
+fn a_crack_under_in_situ_stress_stays_at_rest() {
+    let (s, c) = std::f64::consts::FRAC_PI_4.sin_cos();
+    let a = 0.1;
+    let mut text = plate(
+        [-1.0, 1.0, -1.0, 1.0],
+        &[[-a * s, -a * c], [a * s, a * c]],
+        -1.0e6,
+        0.02,
+        0,
+        20.0,
+        "return-mapping",
+        &[point("p", [-7e-8, 7e-8]), point("corner", [-1.0, 1.0])].concat(),
+    )
+    .replace("steps = 1", "steps = 3");
+    text += "[initial_stress]\nstress = [-1.0e6, -1.0e6, 0.0]\n\
+             [[load]]\nblock = \"plate\"\nedge = [[-1.0, -1.0], [-1.0, 1.0]]\ntraction = [1.0e6, 0.0]\n\
+             [[load]]\nblock = \"plate\"\nedge = [[1.0, -1.0], [1.0, 1.0]]\ntraction = [-1.0e6, 0.0]\n";
+    let mut sim = Simulation::new(parse_model(&text, Path::new(".")).unwrap()).unwrap();
+    let mut iterations = 0;
+    while !sim.finished() {
+        iterations += sim.advance().unwrap().iterations;
+    }
+    let v = monitor_values(&sim);
+    let (closed, all) = crack_contacts(&sim, [0.0, 0.0], 0.0);
+    eprintln!(
+        "in-situ: {iterations} iterations, monitors {v:?}, {closed} of {all} crack contacts closed"
+    );
+    assert!(all > 0 && closed > 0);
+    assert_eq!(iterations, 0);
+    assert!(v.iter().all(|x| x.abs() < 1e-12), "{v:?}");
+}

@@ -1,6 +1,7 @@
 //! Checkpoints: every bit of the state that crosses a step, so that a run resumed from one
-//! continues exactly as the uninterrupted run (the solver keeps nothing across steps: a
-//! fresh factorisation each step, the pattern from the current contacts).
+//! continues exactly as the uninterrupted run (the solver keeps no factorisation across
+//! steps: a fresh one each step, on a pattern that follows from the reserved couplings the
+//! checkpoint keeps).
 //!
 //! A checkpoint holds, after the step it was written at:
 //! - a header: the format, the program version, a fingerprint of the whole model (resume
@@ -15,6 +16,10 @@
 //!   registry, written once, and its state's words); with `[[bolt]]`, last, each bolt's
 //!   committed state ([`crate::bolt::SavedBolt`]) and the bolts' energies (a model without
 //!   bolts writes nothing there: its checkpoints are what they were);
+//! - (format 5) the tangent's reserved couplings, each with the step it was last used
+//!   (`simulation/step.rs`, `TangentPattern`): the pattern, and so the ordering and the
+//!   round-off, of the next steps' factorisations follow from them. A checkpoint of an
+//!   earlier format is refused with the version that wrote it;
 //! - the run's outputs so far: the length of history.csv in bytes, the .pvd frame lists,
 //!   and the run's counters for summary.json.
 //!
@@ -31,7 +36,7 @@ use std::time::Duration;
 
 const MAGIC: &[u8; 8] = b"NMMCKPT\n";
 /// Bumped whenever the layout below changes.
-pub const FORMAT: u32 = 4;
+pub const FORMAT: u32 = 5;
 
 /// The program version a checkpoint must come from.
 pub fn program_version() -> String {
@@ -452,6 +457,15 @@ impl Simulation {
             w.f(e.bolts);
             w.f(e.bolt_plastic);
         }
+        // the tangent's reserved couplings (format 5): the pattern of the next step's
+        // factorisations follows from them (simulation/step.rs, TangentPattern)
+        let t = self.linear.tangent.saved();
+        w.us(t.contact_dofs);
+        w.us(t.reserved.len());
+        for (k, used) in &t.reserved {
+            k.iter().for_each(|d| w.us(*d));
+            w.us(*used);
+        }
     }
 
     /// Restore a state written by [`Simulation::encode_state`] into a simulation freshly
@@ -618,6 +632,21 @@ impl Simulation {
             self.energy.bolts = r.f()?;
             self.energy.bolt_plastic = r.f()?;
         }
+        let contact_dofs = r.us()?;
+        if contact_dofs > crate::contact::set::MAX_CONTACT_DOFS {
+            return Err("a reserved coupling of the tangent does not fit the model".into());
+        }
+        let nr = r.len(8 * (contact_dofs + 1))?;
+        let reserved = (0..nr)
+            .map(|_| {
+                let k = (0..contact_dofs).map(|_| r.us()).collect::<Res<Vec<_>>>()?;
+                Ok((k, r.us()?))
+            })
+            .collect::<Res<Vec<_>>>()?;
+        self.linear.tangent.restore(&super::step::SavedPattern {
+            contact_dofs,
+            reserved,
+        })?;
         // the next step detects its contacts and assembles afresh, as after any step
         self.contacts_current = false;
         self.linear.step = None;

@@ -389,7 +389,7 @@ impl Simulation {
             functions: Vec::new(),
             monitor_points: Vec::new(),
             linear: LinearParts {
-                tangent: TangentPattern::new(empty, Vec::new()),
+                tangent: TangentPattern::new(empty),
                 element_slots: Vec::new(),
                 penalty_slots: Vec::new(),
                 ghost_slots: Vec::new(),
@@ -505,7 +505,7 @@ impl Simulation {
                 .any(|s| s.analysis.mode == Mode::Dynamic);
         let damped = dynamic && self.model.materials.iter().any(|m| !m.damping.is_zero());
         lp.c = if damped { vec![0.0; nnz] } else { Vec::new() };
-        lp.tangent = TangentPattern::new(pattern, groups);
+        lp.tangent = TangentPattern::new(pattern);
         lp.step = None;
     }
 
@@ -1031,6 +1031,7 @@ impl Simulation {
         f: impl FnOnce(&mut StepSystem, &mut dyn LinearSolver) -> T,
     ) -> T {
         let lp = &mut self.linear;
+        lp.tangent.step = self.step;
         // Rayleigh damping (dynamic only): (2/Δt) C
         let cd = if cm > 0.0 && !lp.c.is_empty() {
             time::damping_coefficient(rhs.dt)

@@ -5,8 +5,9 @@
 //! contact forces (piecewise affine in Δu, see `contact/set.rs`). The tangent on the chosen
 //! branches is L + K_c (+ σ M, the regularisation). It is applied matrix-free (L by rows,
 //! the contacts by their rank-2 blocks); it is assembled only when the tangent solver
-//! refreshes its factorisation, over the *tangent pattern*: the element pattern plus every
-//! contact coupling of the step (see [`TangentPattern`]). Rock bolts ([`crate::bolt`])
+//! refreshes its factorisation, over the *tangent pattern*: the element pattern plus the
+//! couplings reserved for contacts, which hold every contact coupling of the step and change
+//! only when a contact needs one they do not (see [`TangentPattern`]). Rock bolts ([`crate::bolt`])
 //! are pieces of the system too (elastic or yielding), their couplings in the element
 //! pattern.
 
@@ -37,32 +38,61 @@ fn coupling_key(dofs: &[usize]) -> CouplingKey {
     key
 }
 
-/// The tangent pattern (see the module docs), kept across steps: the element pattern plus
-/// the couplings of the current contacts, exactly. It is rebuilt when the contacts'
-/// couplings change (most steps of a moving model: the symbolic analysis is then redone);
-/// each contact's tangent slots are bound through its coupling (contacts between the same
-/// two elements share one), not searched entry by entry.
+/// Steps a reserved coupling that no contact uses is kept through a rebuild of the pattern.
+pub(crate) const KEEP_STEPS: usize = 200;
+
+/// Most couplings no current contact uses that a rebuild keeps, for `current` couplings in
+/// use: an eighth as many, and 16 (a bound on the fill they add). Measured on the 20×20 wall
+/// (40 steps): a budget of a half gave 17 symbolic analyses and 1.33× the factor's values of
+/// the exact pattern, an eighth 19 and 1.11×, none (16) 40 and 1.0×.
+fn stale_budget(current: usize) -> usize {
+    current / 8 + 16
+}
+
+/// The tangent pattern (see the module docs), kept across steps: the element pattern plus a
+/// set of **reserved couplings** that holds every coupling of the current contacts. While
+/// the contacts' couplings stay within the reserved set the pattern (and so the symbolic
+/// analysis of the factorisation: ordering, elimination tree, supernodes) is the same from
+/// step to step; unused entries hold explicit zeros. A contact whose coupling is not
+/// reserved **rebuilds** it: the reserved set becomes the current couplings plus those a
+/// contact used within the last [`KEEP_STEPS`] steps (contacts that open and close again,
+/// pairs that come in and out of the search, keep their place), and the pattern is built
+/// anew. Each contact's tangent slots are bound through its coupling (contacts between the
+/// same two elements share one), not searched entry by entry.
 ///
-/// Measured and rejected (40×40 wall, 12 steps): a pattern that **reserves** couplings for
-/// a window of steps (the contacts of a 3× wider search with the neighbouring segments)
-/// needed one symbolic analysis instead of 12 but 2.3× the factor's values (5.5 against
-/// 2.4 million); reusing the minimum-degree ordering of an earlier step's pattern while
-/// fewer than 5% of the couplings were new gave 1.2–1.7× the fill of the pattern's own
-/// ordering. The symbolic analysis costs about one numeric factorisation, against five
-/// numeric factorisations a step: fill costs more than the analysis saves.
+/// Why (tunnel example, 767 steps, before): the pattern followed the current contacts
+/// exactly and was rebuilt in 724 steps; building it took 10.7 s, its symbolic analyses
+/// 5.8 s, the numeric factorisations 4.6 s of a 37.5 s run.
 ///
-/// The pattern is a function of the current contacts only, so a resumed run factorises
-/// exactly the matrices the uninterrupted run did.
+/// Measured and rejected earlier (40×40 wall, 12 steps): a pattern that reserves the
+/// couplings of a 3× wider search with the neighbouring segments needed one symbolic
+/// analysis instead of 12 but 2.3× the factor's values (5.5 against 2.4 million); reusing
+/// the minimum-degree ordering of an earlier step's pattern while fewer than 5% of the
+/// couplings were new gave 1.2–1.7× the fill of the pattern's own ordering. Couplings
+/// reserved because they were used recently cost little fill: they are couplings of
+/// neighbours in contact.
+///
+/// The reserved set and the step each coupling was last used are state that crosses steps:
+/// checkpoints keep them ([`TangentPattern::saved`], [`TangentPattern::restore`]), and the
+/// pattern is a function of them, so a resumed run factorises exactly the matrices the
+/// uninterrupted run did. Nothing depends on the thread count.
 #[derive(Debug, Clone)]
 pub(crate) struct TangentPattern {
-    /// The element pattern (elements and constraint penalties) and its dof groups.
+    /// The element pattern (elements, constraint penalties, ghost ties, bolts).
     element: Arc<SparsePattern>,
-    element_groups: Vec<Vec<usize>>,
-    /// The couplings of the contacts `combined` was built for, sorted.
-    current: Vec<CouplingKey>,
-    /// The element pattern plus `current`.
+    /// The reserved couplings, sorted (see above).
+    reserved: Vec<CouplingKey>,
+    /// The last step a contact used each reserved coupling.
+    last_used: Vec<usize>,
+    /// Unknowns of a contact (its row length) the reserved couplings are for.
+    contact_dofs: usize,
+    /// The step being solved (set by the simulation).
+    pub step: usize,
+    /// Patterns built (for tests and reports).
+    pub builds: usize,
+    /// The element pattern plus `reserved` (a cache: a function of `reserved`).
     combined: Option<Arc<SparsePattern>>,
-    /// Index of each coupling of `current`.
+    /// Index of each coupling of `reserved`.
     index: HashMap<CouplingKey, u32>,
     /// Slot in `combined` of each slot of `element`.
     map: Vec<u32>,
@@ -70,25 +100,33 @@ pub(crate) struct TangentPattern {
     /// key).
     key_slots: Vec<u32>,
     /// Slots of each current contact's tangent entries (n², row-major over the contact's
-    /// own unknowns), for the contact list of generation `bound`.
+    /// own unknowns), for the contact list of generation and step `bound`.
     contact_slots: Vec<u32>,
-    /// Unknowns of a contact (its row length) of the bound contact list.
-    contact_dofs: usize,
-    bound: Option<u64>,
+    bound: Option<(u64, usize)>,
+}
+
+/// The reserved couplings of a tangent pattern as a checkpoint keeps them: the contact row
+/// length, each coupling (padded with [`NO_DOF`]) and the step it was last used.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct SavedPattern {
+    pub contact_dofs: usize,
+    pub reserved: Vec<(Vec<usize>, usize)>,
 }
 
 impl TangentPattern {
-    pub fn new(element: Arc<SparsePattern>, element_groups: Vec<Vec<usize>>) -> Self {
+    pub fn new(element: Arc<SparsePattern>) -> Self {
         TangentPattern {
             element,
-            element_groups,
-            current: Vec::new(),
+            reserved: Vec::new(),
+            last_used: Vec::new(),
+            contact_dofs: 0,
+            step: 0,
+            builds: 0,
             combined: None,
             index: HashMap::new(),
             map: Vec::new(),
             key_slots: Vec::new(),
             contact_slots: Vec::new(),
-            contact_dofs: 0,
             bound: None,
         }
     }
@@ -97,19 +135,97 @@ impl TangentPattern {
         &self.element
     }
 
-    fn pattern_with(&self, keys: &[CouplingKey]) -> SparsePattern {
+    /// The state a checkpoint keeps.
+    pub fn saved(&self) -> SavedPattern {
+        SavedPattern {
+            contact_dofs: self.contact_dofs,
+            reserved: self
+                .reserved
+                .iter()
+                .zip(&self.last_used)
+                .map(|(k, &t)| (k.to_vec(), t))
+                .collect(),
+        }
+    }
+
+    /// Restore the state of a checkpoint (on a pattern of the same element pattern).
+    pub fn restore(&mut self, s: &SavedPattern) -> Result<(), String> {
+        let n = self.element.n;
+        let mut reserved = Vec::with_capacity(s.reserved.len());
+        let mut last_used = Vec::with_capacity(s.reserved.len());
+        for (k, t) in &s.reserved {
+            if k.len() != s.contact_dofs || k.iter().any(|&d| d != NO_DOF && d >= n) {
+                return Err("a reserved coupling of the tangent does not fit the model".into());
+            }
+            reserved.push(CouplingKey::from(&k[..]));
+            last_used.push(*t);
+        }
+        if !reserved.windows(2).all(|w| w[0] < w[1]) {
+            return Err("the reserved couplings of the tangent are not sorted".into());
+        }
+        self.reserved = reserved;
+        self.last_used = last_used;
+        self.contact_dofs = s.contact_dofs;
+        self.combined = None;
+        self.bound = None;
+        Ok(())
+    }
+
+    /// Build `combined` and its slots from `reserved`.
+    fn build(&mut self) {
+        let nc = self.contact_dofs;
+        let n2 = nc * nc;
         let free = |k: &CouplingKey| -> usize { k.iter().take_while(|&&d| d != NO_DOF).count() };
-        let all = self
-            .element_groups
-            .iter()
-            .map(|g| g.as_slice())
-            .chain(keys.iter().map(|k| &k[..free(k)]));
-        SparsePattern::from_groups(self.element.n, all)
+        let p = Arc::new(
+            self.element
+                .with_groups(self.reserved.iter().map(|k| &k[..free(k)])),
+        );
+        self.map = embed(&self.element, &p);
+        self.key_slots.clear();
+        self.key_slots.resize(self.reserved.len() * n2, u32::MAX);
+        self.index.clear();
+        self.index.reserve(self.reserved.len());
+        for (i, k) in self.reserved.iter().enumerate() {
+            sorted_group_slots(&p, k, &mut self.key_slots[i * n2..(i + 1) * n2]);
+            self.index.insert(k.clone(), i as u32);
+        }
+        self.combined = Some(p);
+        self.builds += 1;
+    }
+
+    /// Reserve the couplings `keys` of the current contacts, and of the couplings reserved
+    /// now that are not among them those used within the last [`KEEP_STEPS`] steps, at most
+    /// [`stale_budget`] of them, the most recently used first; build the pattern.
+    fn rebuild(&mut self, keys: &[CouplingKey]) {
+        let step = self.step;
+        let mut current: Vec<CouplingKey> = keys.to_vec();
+        current.sort_unstable();
+        current.dedup();
+        let mut stale: Vec<(usize, CouplingKey)> = self
+            .reserved
+            .drain(..)
+            .zip(self.last_used.drain(..))
+            .filter(|(k, t)| {
+                step.saturating_sub(*t) <= KEEP_STEPS && current.binary_search(k).is_err()
+            })
+            .map(|(k, t)| (t, k))
+            .collect();
+        // the most recently used first, then by coupling
+        stale.sort_unstable_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
+        stale.truncate(stale_budget(current.len()));
+        let mut next: Vec<(CouplingKey, usize)> = current
+            .into_iter()
+            .map(|k| (k, step))
+            .chain(stale.into_iter().map(|(t, k)| (k, t)))
+            .collect();
+        next.sort_unstable_by(|a, b| a.0.cmp(&b.0));
+        (self.reserved, self.last_used) = next.into_iter().unzip();
+        self.build();
     }
 
     /// The pattern for the current `contacts`, with their tangent slots bound.
     fn for_contacts(&mut self, contacts: &ContactSet) -> Arc<SparsePattern> {
-        if self.bound == Some(contacts.generation()) {
+        if self.bound == Some((contacts.generation(), self.step)) {
             if let Some(p) = &self.combined {
                 return p.clone();
             }
@@ -122,29 +238,25 @@ impl TangentPattern {
         // every contact of a discretisation has the same number of unknowns
         let nc = contacts.contact_dofs();
         let n2 = nc * nc;
-        let mut current = keys.clone();
-        current.sort_unstable();
-        current.dedup();
-        if self.combined.is_none() || current != self.current || nc != self.contact_dofs {
-            let p = Arc::new(self.pattern_with(&current));
-            self.map = embed(&self.element, &p);
-            self.key_slots.clear();
-            self.key_slots.resize(current.len() * n2, u32::MAX);
-            self.index.clear();
-            self.index.reserve(current.len());
-            for (i, k) in current.iter().enumerate() {
-                global::group_slots(&p, k, &mut self.key_slots[i * n2..(i + 1) * n2]);
-                self.index.insert(k.clone(), i as u32);
-            }
-            self.current = current;
-            self.combined = Some(p);
+        if nc != self.contact_dofs {
+            self.reserved.clear();
+            self.last_used.clear();
             self.contact_dofs = nc;
+            self.combined = None;
+        }
+        if self.combined.is_none() {
+            self.build();
+        }
+        if keys.iter().any(|k| !self.index.contains_key(k)) {
+            self.rebuild(&keys);
         }
         // bind: each contact's slots, from its coupling's, in the contact's own order
         self.contact_slots.clear();
         self.contact_slots.resize(keys.len() * n2, u32::MAX);
         for (ci, (c, key)) in contacts.contacts.iter().zip(&keys).enumerate() {
-            let g = self.index[key] as usize * n2;
+            let ki = self.index[key] as usize;
+            self.last_used[ki] = self.step;
+            let g = ki * n2;
             let out = &mut self.contact_slots[ci * n2..(ci + 1) * n2];
             let slots = &self.key_slots[g..g + n2];
             match (key.fixed(), c.dofs.fixed()) {
@@ -156,7 +268,7 @@ impl TangentPattern {
                 }
             }
         }
-        self.bound = Some(contacts.generation());
+        self.bound = Some((contacts.generation(), self.step));
         self.combined.clone().expect("pattern")
     }
 }
@@ -180,6 +292,27 @@ fn bind(key: &[usize], dofs: &[usize], slots: &[u32], out: &mut [u32]) {
             if pos[j] != usize::MAX {
                 out[i * nc + j] = slots[pos[i] * nc + pos[j]];
             }
+        }
+    }
+}
+
+/// [`global::group_slots`] of a coupling key (its unknowns sorted, [`NO_DOF`] last): each
+/// column's rows found by one merge along the column instead of a search per entry.
+fn sorted_group_slots(p: &SparsePattern, key: &[usize], out: &mut [u32]) {
+    let m = key.len();
+    out.iter_mut().for_each(|s| *s = u32::MAX);
+    let free = key.iter().take_while(|&&d| d != NO_DOF).count();
+    for (j, &col) in key[..free].iter().enumerate() {
+        let (mut k, end) = (p.col_ptr[col], p.col_ptr[col + 1]);
+        for (i, &row) in key[..free].iter().enumerate() {
+            while k < end && p.row_idx[k] < row {
+                k += 1;
+            }
+            assert!(
+                k < end && p.row_idx[k] == row,
+                "a coupling of the key is missing from the pattern"
+            );
+            out[i * m + j] = k as u32;
         }
     }
 }
@@ -355,6 +488,19 @@ impl PiecewiseSystem for StepSystem<'_> {
 #[allow(clippy::needless_range_loop)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sorted_group_slots_are_group_slots() {
+        let p = SparsePattern::from_groups(
+            9,
+            [&[0usize, 2, 5][..], &[3, 4][..], &[1, 2, 4, 8][..]].into_iter(),
+        );
+        let key = [1usize, 2, 4, 8, NO_DOF, NO_DOF];
+        let (mut a, mut b) = ([0u32; 36], [0u32; 36]);
+        sorted_group_slots(&p, &key, &mut a);
+        global::group_slots(&p, &key, &mut b);
+        assert_eq!(a, b);
+    }
 
     #[test]
     fn embedding_finds_every_entry() {

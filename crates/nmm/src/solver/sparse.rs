@@ -40,6 +40,65 @@ impl SparsePattern {
         }
     }
 
+    /// This pattern with every dof of each group coupled with every other of the same group:
+    /// the same pattern as [`SparsePattern::from_groups`] of this pattern's groups and
+    /// `groups`, built in one flat buffer (a column's rows: its own, then each group's,
+    /// sorted and made unique in place).
+    pub fn with_groups<'a>(&self, groups: impl Iterator<Item = &'a [usize]> + Clone) -> Self {
+        let n = self.n;
+        let mut extra = vec![0usize; n];
+        for g in groups.clone() {
+            for &c in g {
+                extra[c] += g.len();
+            }
+        }
+        let mut start = Vec::with_capacity(n + 1);
+        start.push(0);
+        for c in 0..n {
+            let own = self.col_ptr[c + 1] - self.col_ptr[c];
+            start.push(start[c] + own + extra[c]);
+        }
+        let mut buf = vec![0usize; start[n]];
+        let mut end: Vec<usize> = (0..n)
+            .map(|c| {
+                let own = &self.row_idx[self.col_ptr[c]..self.col_ptr[c + 1]];
+                buf[start[c]..start[c] + own.len()].copy_from_slice(own);
+                start[c] + own.len()
+            })
+            .collect();
+        for g in groups {
+            for &c in g {
+                buf[end[c]..end[c] + g.len()].copy_from_slice(g);
+                end[c] += g.len();
+            }
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        col_ptr.push(0);
+        let mut w = 0;
+        for c in 0..n {
+            let (a, b) = (start[c], end[c]);
+            if b - a > self.col_ptr[c + 1] - self.col_ptr[c] {
+                buf[a..b].sort_unstable();
+            }
+            let mut last = usize::MAX;
+            for k in a..b {
+                let r = buf[k];
+                if r != last {
+                    buf[w] = r;
+                    w += 1;
+                    last = r;
+                }
+            }
+            col_ptr.push(w);
+        }
+        buf.truncate(w);
+        SparsePattern {
+            n,
+            col_ptr,
+            row_idx: buf,
+        }
+    }
+
     pub fn nnz(&self) -> usize {
         self.row_idx.len()
     }
@@ -151,6 +210,16 @@ mod tests {
             }
         }
         assert!(p.slot(1, 4).is_none());
+    }
+
+    #[test]
+    fn with_groups_is_from_groups_of_both() {
+        let base: Vec<Vec<usize>> = vec![vec![0, 2, 3], vec![3, 4], vec![7, 1]];
+        let more: Vec<Vec<usize>> = vec![vec![4, 1, 6], vec![0, 7], vec![2, 3], vec![5]];
+        let p = SparsePattern::from_groups(8, base.iter().map(|g| &g[..]));
+        let both = SparsePattern::from_groups(8, base.iter().chain(&more).map(|g| &g[..]));
+        assert_eq!(p.with_groups(more.iter().map(|g| &g[..])), both);
+        assert_eq!(p.with_groups(std::iter::empty()), p);
     }
 
     #[test]

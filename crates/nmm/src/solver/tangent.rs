@@ -101,6 +101,13 @@ impl std::ops::AddAssign for LinearStats {
 /// former (30, 15) the 40×40 wall (20 steps) took 10.6 s instead of 16.1 s (GMRES iterations
 /// 2,408 → 1,086, factorisations 81 → 111), the seismic arch (2,500 steps) 7.6 s instead of
 /// 8.3 s, the jointed slope example 3.4 s instead of 3.9 s.
+///
+/// Measured and rejected (2026-12-03, 40×40 wall, 12 steps): measuring "stale" against the
+/// iterations the fresh factor itself needed (budget 6 + fresh, refresh after 3 + fresh, so
+/// that the sliding coupling's share, which no refresh removes, does not force a refresh
+/// after every solve) took 44 factorisations instead of 57 but 854 GMRES iterations instead
+/// of 400: factorisation and solve 7.7 s against 6.7 s. A factor held across an active-set
+/// change costs more iterations than a refresh saves.
 const STALE_ITERATIONS: usize = 6;
 /// A solve that needed more GMRES iterations than this refreshes the factor for the next.
 const REFRESH_AFTER: usize = 3;

@@ -28,6 +28,52 @@ pub mod restitution;
 pub mod set;
 
 pub use broad::sweep_and_prune;
+
+/// What contact detection needs of a model — a narrow view, so that `contact` depends on
+/// the interfaces and not on the whole model: which blocks are fixed, the joint that made
+/// each face, the interface of a face, and the analysis' friction law. [`crate::model::Model`]
+/// implements it.
+pub trait InterfaceView {
+    /// Whether block `b` is fixed.
+    fn is_fixed(&self, b: usize) -> bool;
+    /// Whether some interface can apply to contacts between blocks `a` and `b`.
+    fn may_contact(&self, a: usize, b: usize) -> bool;
+    /// The joint that made edge `edge` of block `b` (edges numbered over its loops), if any.
+    fn face_joint(&self, b: usize, edge: usize) -> Option<usize>;
+    /// The interface of a contact of a vertex of `vertex_block` on a face of `edge_block`
+    /// made by `joint`: the joint's, else the pair's, else the default (`None`: no contact).
+    fn interface_for_face(
+        &self,
+        vertex_block: usize,
+        edge_block: usize,
+        joint: Option<usize>,
+    ) -> Option<&crate::model::Interface>;
+    /// The analysis' friction law (an interface without its own law uses it).
+    fn default_law(&self) -> law::LawId;
+}
+
+impl InterfaceView for crate::model::Model {
+    fn is_fixed(&self, b: usize) -> bool {
+        self.blocks[b].fixed
+    }
+    fn may_contact(&self, a: usize, b: usize) -> bool {
+        crate::model::Model::may_contact(self, a, b)
+    }
+    fn face_joint(&self, b: usize, edge: usize) -> Option<usize> {
+        self.blocks[b].edge_joint.get(edge).copied().flatten()
+    }
+    fn interface_for_face(
+        &self,
+        vertex_block: usize,
+        edge_block: usize,
+        joint: Option<usize>,
+    ) -> Option<&crate::model::Interface> {
+        crate::model::Model::interface_for_face(self, vertex_block, edge_block, joint)
+    }
+    fn default_law(&self) -> law::LawId {
+        self.analysis.friction
+    }
+}
 pub use friction::{
     commit_conventional, commit_return_mapping, conventional, return_mapping, ContactStatus,
     FrictionParams, LawResponse, ShearHistory,

@@ -64,6 +64,7 @@ use super::friction::{ContactStatus, FrictionParams, LawResponse};
 use super::law::{Branch, IterationContext, LawId, LawState};
 use super::narrow::{vertex_edge_contacts_loops, NarrowParams, VertexEdge};
 use super::restitution::DashpotTable;
+use super::InterfaceView;
 use crate::cover::basis::{ELEMENT_DOFS, MAX_ELEMENT_DOFS, NO_DOF};
 use crate::cover::{barycentric, Discretisation};
 use crate::geometry::{cross, dot, norm, sub, Aabb, Vec2};
@@ -613,7 +614,7 @@ impl ContactSet {
     /// at the start under in-situ stress).
     fn push_contact(
         &mut self,
-        model: &Model,
+        model: &dyn InterfaceView,
         c: NewContact,
         insitu_force: impl FnOnce(&crate::model::InitialStress) -> Vec2,
     ) {
@@ -639,7 +640,7 @@ impl ContactSet {
         // the interface's own law, else the analysis'
         let (law, own) = match &iface.law {
             Some(l) => (l.law, l.law.law().own_constants(&l.values, weight)),
-            None => (model.analysis.friction, [0.0; 4]),
+            None => (model.default_law(), [0.0; 4]),
         };
         let params = FrictionParams {
             pn,
@@ -701,7 +702,13 @@ impl ContactSet {
     }
 
     /// Find the contacts on the current geometry (displacement `u` from the initial one).
-    pub fn detect(&mut self, disc: &Discretisation, model: &Model, u: &[f64], search: f64) {
+    pub fn detect(
+        &mut self,
+        disc: &Discretisation,
+        model: &dyn InterfaceView,
+        u: &[f64],
+        search: f64,
+    ) {
         self.contacts.clear();
         self.generation += 1;
         let basis = disc.basis;
@@ -780,7 +787,7 @@ impl ContactSet {
             v.sort_unstable_by_key(|x| x.0);
         }
         for (a, b) in pairs {
-            if model.blocks[a].fixed && model.blocks[b].fixed {
+            if model.is_fixed(a) && model.is_fixed(b) {
                 continue;
             }
             if self.removed(a) || self.removed(b) {
@@ -826,7 +833,7 @@ impl ContactSet {
                     }
                     // the face's joint (if a joint made it) chooses the interface
                     let edge = disc.boundaries[pb].segment_edges[ve.segment];
-                    let joint = model.blocks[pb].edge_joint.get(edge).copied().flatten();
+                    let joint = model.face_joint(pb, edge);
                     let Some(iface) = model.interface_for_face(pa, pb, joint) else {
                         continue;
                     };

@@ -22,9 +22,9 @@
 //! after the block's boundary vertices ([`crate::cover::Slit::first`]).
 
 use super::{contact_rows, ContactSet, NewContact};
+use crate::contact::InterfaceView;
 use crate::cover::{barycentric, Discretisation, Slit};
 use crate::geometry::{dist, dot, lerp, norm, sub, Vec2};
-use crate::model::Model;
 
 /// A vertex against its nearest segment of the other face: (segment, ξ ∈ [0, 1] of the
 /// nearest point, unclamped ξ, gap along the segment's outward normal, normal, tangent).
@@ -60,7 +60,7 @@ impl ContactSet {
     pub(super) fn detect_slits(
         &mut self,
         disc: &Discretisation,
-        model: &Model,
+        model: &dyn InterfaceView,
         u: &[f64],
         search: f64,
         density: f64,
@@ -68,7 +68,7 @@ impl ContactSet {
     ) {
         for s in &disc.slits {
             let b = s.block;
-            if model.blocks[b].fixed || self.removed(b) {
+            if model.is_fixed(b) || self.removed(b) {
                 continue;
             }
             let Some(iface) = model.interface_for_face(b, b, Some(s.joint)) else {
@@ -108,7 +108,7 @@ impl ContactSet {
     fn face_contacts(
         &mut self,
         disc: &Discretisation,
-        model: &Model,
+        model: &dyn InterfaceView,
         s: &Slit,
         (f, g): (usize, usize),
         cur: &[Vec<Vec2>; 2],

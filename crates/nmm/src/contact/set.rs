@@ -503,6 +503,17 @@ fn polygon_faces(corner: &[bool]) -> Vec<(usize, usize)> {
         .collect()
 }
 
+/// The fraction of each adjacent segment a vertex's contact integrates: ½ (the
+/// trapezoidal rule) without midpoints; with them (first-order covers, Simpson's rule) ⅓ at
+/// a segment's end and ⅔ at its midpoint.
+pub(crate) fn tributary_share(has_midpoints: bool, midpoint: bool) -> f64 {
+    match (has_midpoints, midpoint) {
+        (false, _) => 0.5,
+        (true, false) => 1.0 / 3.0,
+        (true, true) => 2.0 / 3.0,
+    }
+}
+
 /// Tributary length of vertex `i` of the closed polyline `a` on the segment of `b` with
 /// origin `p0`, unit direction `t` and outward normal `n`, whose polygon edge spans
 /// `[s_lo, s_hi]` in the coordinate s = (x − p0)·t: the fraction `share` (½: the trapezoidal
@@ -842,14 +853,10 @@ impl ContactSet {
                     let (f0, f1) = self.faces[pb][ve.segment];
                     let s_lo = dot(sub(pb_poly[f0], p0), ve.tangent);
                     let s_hi = dot(sub(pb_poly[f1], p0), ve.tangent);
-                    let share = match (
+                    let share = tributary_share(
                         has_midpoints,
                         disc.boundaries[pa].vertices[ve.vertex].midpoint,
-                    ) {
-                        (false, _) => 0.5,
-                        (true, false) => 1.0 / 3.0,
-                        (true, true) => 2.0 / 3.0,
-                    };
+                    );
                     let lambda = tributary(
                         (&polys[pa], la),
                         ve.vertex,

@@ -989,27 +989,8 @@ fn refine_boundary(
             pts.push((p, true));
             segment_edges.push(first_edge + k);
             let len = crate::geometry::dist(p, q);
-            let gp = [(p[0] - mesh.origin[0]) / h, (p[1] - mesh.origin[1]) / h];
-            let gq = [(q[0] - mesh.origin[0]) / h, (q[1] - mesh.origin[1]) / h];
             ts.clear();
-            for (f0, f1) in [
-                (gp[0], gq[0]),
-                (gp[1], gq[1]),
-                (gp[0] - gp[1], gq[0] - gq[1]),
-            ] {
-                if f0 == f1 {
-                    continue;
-                }
-                let (lo, hi) = (f0.min(f1), f0.max(f1));
-                let mut m = lo.ceil();
-                while m <= hi {
-                    let t = (m - f0) / (f1 - f0);
-                    if t > 0.0 && t < 1.0 {
-                        ts.push(t);
-                    }
-                    m += 1.0;
-                }
-            }
+            super::slit::mesh_crossings(p, q, mesh.origin, h, &mut ts);
             ts.sort_by(f64::total_cmp);
             let tol = EDGE_TOL * h;
             let mut last = 0.0;

@@ -77,8 +77,9 @@ impl Slit {
 }
 
 /// Parameters in (0, 1) where the segment p→q crosses a line of the mesh (grid coordinates
-/// relative to `origin`, spacing `h`: x = i, y = j, x − y = k).
-fn mesh_crossings(p: Vec2, q: Vec2, origin: Vec2, h: f64, out: &mut Vec<f64>) {
+/// relative to `origin`, spacing `h`: x = i, y = j, x − y = k), appended to `out` (the
+/// refinement points of block boundaries and of crack faces).
+pub(super) fn mesh_crossings(p: Vec2, q: Vec2, origin: Vec2, h: f64, out: &mut Vec<f64>) {
     let gp = [(p[0] - origin[0]) / h, (p[1] - origin[1]) / h];
     let gq = [(q[0] - origin[0]) / h, (q[1] - origin[1]) / h];
     for (f0, f1) in [

@@ -129,11 +129,10 @@ fn slit_span(
     i: usize,
     basis: crate::cover::CoverBasis,
 ) -> [Vec2; 2] {
-    let share = match (basis, v[i].midpoint) {
-        (crate::cover::CoverBasis::Constant, _) => 0.5,
-        (_, false) => 1.0 / 3.0,
-        (_, true) => 2.0 / 3.0,
-    };
+    let share = crate::contact::set::tributary_share(
+        basis != crate::cover::CoverBasis::Constant,
+        v[i].midpoint,
+    );
     let x = v[i].x0;
     let a = if i > 0 {
         crate::geometry::lerp(x, v[i - 1].x0, share)

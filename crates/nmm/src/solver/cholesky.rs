@@ -49,8 +49,9 @@ pub struct Cholesky {
     lower_col_ptr: Vec<usize>,
     lower_row_idx: Vec<usize>,
     lower_values: Vec<f64>,
-    /// ... and, for each slot of A's pattern, its slot there (`u32::MAX`: the strict upper
-    /// triangle of P A Pᵀ, not read).
+    /// ... and, for each of its slots, the slot of A's pattern it takes its value from (a
+    /// branch-free gather over half of A's entries: the former scatter over all of them,
+    /// skipping the upper triangle, was 4.4% of the arch example's run).
     gather: Vec<u32>,
     /// A right-hand side in the factor's order.
     permuted: Vec<f64>,
@@ -220,17 +221,16 @@ impl Cholesky {
         let mut upper_rows = Vec::new();
         try_zeroed(&mut lower_rows, lower_ptr[n])?;
         try_zeroed(&mut upper_rows, upper_ptr[n])?;
-        try_zeroed(&mut self.gather, nnz)?;
+        try_zeroed(&mut self.gather, lower_ptr[n])?;
         let mut lpos = lower_ptr[..n].to_vec();
         let mut upos = upper_ptr[..n].to_vec();
         for c in 0..n {
             let j = inv[c];
             for k in p.col_ptr[c]..p.col_ptr[c + 1] {
                 let i = inv[p.row_idx[k]];
-                self.gather[k] = u32::MAX;
                 if i >= j {
                     lower_rows[lpos[j]] = i;
-                    self.gather[k] = lpos[j] as u32;
+                    self.gather[lpos[j]] = k as u32;
                     lpos[j] += 1;
                 }
                 if i <= j {
@@ -284,10 +284,8 @@ impl Cholesky {
             self.symbolic_count += 1;
         }
         // the lower triangle of P A Pᵀ: every slot of it is one entry of A
-        for (&g, &v) in self.gather.iter().zip(&a.values) {
-            if g != u32::MAX {
-                self.lower_values[g as usize] = v;
-            }
+        for (l, &k) in self.lower_values.iter_mut().zip(&self.gather) {
+            *l = a.values[k as usize];
         }
         let n = a.n();
         let lower = SymbolicSparseColMatRef::new_unsorted_checked(

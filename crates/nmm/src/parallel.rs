@@ -15,7 +15,16 @@ use std::sync::Arc;
 pub const THREADS_VAR: &str = "NMM_THREADS";
 
 /// Loops below this many items run inline (a pool's dispatch costs more than they do).
-const MIN_PARALLEL: usize = 256;
+///
+/// Measured on the 2-core machine (whole runs, alternated): with 256 the arch example
+/// (1,000 unknowns, 1,293 elements, up to 319 contacts) took 22.4–22.9 s on two threads
+/// against 19.7–21.4 s on one (3 s of system time waking the pool's other thread at every
+/// assembly and contact loop); with 2048, 19.3–19.4 s on two and 19.3 s on one. The brick
+/// walls are unchanged within noise (20×20: 1.20–1.27 s, 40×40: 6.4–7.1 s, 12 steps):
+/// their time is in the factorisation and the triangular solves, which run on one thread
+/// (faer's parallel supernodal factorisation was slower on two threads than on one on the
+/// 40×40 wall's tangent: 34 against 26 ms).
+const MIN_PARALLEL: usize = 2048;
 
 /// The default thread count: `NMM_THREADS` if set, else the cores the process may use.
 /// A malformed `NMM_THREADS` is an error naming it.

@@ -24,7 +24,7 @@ pub const THREADS_VAR: &str = "NMM_THREADS";
 /// their time is in the factorisation and the triangular solves, which run on one thread
 /// (faer's parallel supernodal factorisation was slower on two threads than on one on the
 /// 40×40 wall's tangent: 34 against 26 ms).
-const MIN_PARALLEL: usize = 2048;
+pub const MIN_PARALLEL: usize = 2048;
 
 /// The default thread count: `NMM_THREADS` if set, else the cores the process may use.
 /// A malformed `NMM_THREADS` is an error naming it.

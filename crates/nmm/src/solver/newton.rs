@@ -162,6 +162,9 @@ const ARMIJO: f64 = 1e-4;
 /// Full Newton steps that may raise the merit above the best point's before the iteration
 /// returns to that point (the watchdog).
 pub const WATCHDOG: usize = 3;
+/// A return below the best point after provisional steps that lowers the merit by less
+/// than this factor is a lap of a cycle, not progress (see the watchdog).
+const WEAK_RETURN: f64 = 0.9;
 /// Largest rise of the merit over the best point's that the watchdog keeps.
 pub const WATCHDOG_GROWTH: f64 = 1e8;
 /// Relative accuracy of the linear solves while the active set moves.
@@ -289,9 +292,17 @@ pub fn solve_piecewise(
                 }
                 phi = pt;
                 if decrease {
+                    // back below the best point after provisional steps, but barely: the
+                    // same cycle of active sets round again (each lap a little lower); it
+                    // counts as one more provisional step, so the watchdog runs out
+                    if provisional > 0 && pt > WEAK_RETURN * phi_best {
+                        provisional += 1;
+                        rep.provisional_steps += 1;
+                    } else {
+                        provisional = 0;
+                    }
                     best.copy_from_slice(x);
                     phi_best = pt;
-                    provisional = 0;
                     monotone = false;
                     if !continuation && sigma > 0.0 {
                         // a σ raised against a cycle falls back towards Newton's own (0)

@@ -114,11 +114,11 @@ fn amd_ordering(p: &SparsePattern, inv: &mut [usize]) -> Result<(), SolveError> 
     let mut first = Vec::new();
     let mut node_of = Vec::new();
     try_zeroed(&mut node_of, n)?;
-    for c in 0..n {
+    for (c, node) in node_of.iter_mut().enumerate() {
         if c == 0 || rows(c) != rows(c - 1) {
             first.push(c);
         }
-        node_of[c] = first.len() - 1;
+        *node = first.len() - 1;
     }
     let m = first.len();
     first.push(n);
@@ -126,9 +126,9 @@ fn amd_ordering(p: &SparsePattern, inv: &mut [usize]) -> Result<(), SolveError> 
     let mut q_ptr = Vec::with_capacity(m + 1);
     let mut q_rows = Vec::new();
     q_ptr.push(0);
-    for j in 0..m {
+    for &f in &first[..m] {
         let mut last = usize::MAX;
-        for &r in rows(first[j]) {
+        for &r in rows(f) {
             let q = node_of[r];
             if q != last {
                 q_rows.try_reserve(1).map_err(|_| SolveError::OutOfMemory)?;
@@ -155,8 +155,8 @@ fn amd_ordering(p: &SparsePattern, inv: &mut [usize]) -> Result<(), SolveError> 
     .map_err(faer_error)?;
     let mut pos = 0;
     for &j in &fwd {
-        for c in first[j]..first[j + 1] {
-            inv[c] = pos;
+        for i in &mut inv[first[j]..first[j + 1]] {
+            *i = pos;
             pos += 1;
         }
     }

@@ -125,13 +125,17 @@ fn amd_ordering(p: &SparsePattern, inv: &mut [usize]) -> Result<(), SolveError> 
     // the quotient pattern: a column's rows are sorted, so their nodes are too
     let mut q_ptr = Vec::with_capacity(m + 1);
     let mut q_rows = Vec::new();
+    // at most the entries of each node's first column
+    let bound = first[..m].iter().map(|&f| rows(f).len()).sum();
+    q_rows
+        .try_reserve(bound)
+        .map_err(|_| SolveError::OutOfMemory)?;
     q_ptr.push(0);
     for &f in &first[..m] {
         let mut last = usize::MAX;
         for &r in rows(f) {
             let q = node_of[r];
             if q != last {
-                q_rows.try_reserve(1).map_err(|_| SolveError::OutOfMemory)?;
                 q_rows.push(q);
                 last = q;
             }

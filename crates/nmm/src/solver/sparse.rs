@@ -17,27 +17,12 @@ impl SparsePattern {
     /// other dof of the same group (an element's dofs, a contact's dofs, ...).
     /// The diagonal is always present.
     pub fn from_groups<'a>(n: usize, groups: impl Iterator<Item = &'a [usize]>) -> Self {
-        let mut cols: Vec<Vec<usize>> = (0..n).map(|i| vec![i]).collect();
-        for g in groups {
-            for &c in g {
-                let col = &mut cols[c];
-                col.extend_from_slice(g);
-            }
-        }
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::new();
-        col_ptr.push(0);
-        for mut col in cols {
-            col.sort_unstable();
-            col.dedup();
-            row_idx.extend_from_slice(&col);
-            col_ptr.push(row_idx.len());
-        }
-        SparsePattern {
+        let diagonal = SparsePattern {
             n,
-            col_ptr,
-            row_idx,
-        }
+            col_ptr: (0..=n).collect(),
+            row_idx: (0..n).collect(),
+        };
+        diagonal.with_groups(groups)
     }
 
     /// This pattern with every dof of each group coupled with every other of the same group:

@@ -667,7 +667,7 @@ impl Simulation {
             .covers
             .iter()
             .filter_map(|c| c.dof)
-            .map(|d| du[d].hypot(du[d + 1]))
+            .map(|d| crate::geometry::norm([du[d], du[d + 1]]))
             .fold(0.0, f64::max)
     }
 
@@ -1214,7 +1214,7 @@ impl Simulation {
                 let d = basis.node_displacement(ue, k);
                 e.nodes[k][0] += d[0];
                 e.nodes[k][1] += d[1];
-                max_du = max_du.max(d[0].hypot(d[1]));
+                max_du = max_du.max(crate::geometry::norm(d));
             }
             if basis != CoverBasis::Constant {
                 // the stress written out: at the centroid of the moved polygon

@@ -23,6 +23,11 @@ use std::sync::Arc;
 /// [`NO_DOF`] to the contact's length (contacts between the same two elements share it).
 pub(crate) type CouplingKey = ContactRow<usize>;
 
+/// The free unknowns of a coupling key: its leading entries before the [`NO_DOF`] padding.
+fn free_unknowns(key: &[usize]) -> &[usize] {
+    &key[..key.iter().take_while(|&&d| d != NO_DOF).count()]
+}
+
 fn coupling_key(dofs: &[usize]) -> CouplingKey {
     let mut key: CouplingKey = dofs.into();
     let k: &mut [usize] = &mut key;
@@ -93,7 +98,7 @@ pub(crate) struct TangentPattern {
     /// The element pattern plus `reserved` (a cache: a function of `reserved`).
     combined: Option<Arc<SparsePattern>>,
     /// Index of each coupling of `reserved`.
-    index: HashMap<CouplingKey, u32>,
+    index: HashMap<CouplingKey, u32, foldhash::fast::RandomState>,
     /// Slot in `combined` of each slot of `element`.
     map: Vec<u32>,
     /// Slots of each coupling's entries (n², n the unknowns of a contact, row-major over its
@@ -123,7 +128,7 @@ impl TangentPattern {
             step: 0,
             builds: 0,
             combined: None,
-            index: HashMap::new(),
+            index: HashMap::default(),
             map: Vec::new(),
             key_slots: Vec::new(),
             contact_slots: Vec::new(),
@@ -175,10 +180,9 @@ impl TangentPattern {
     fn build(&mut self) {
         let nc = self.contact_dofs;
         let n2 = nc * nc;
-        let free = |k: &CouplingKey| -> usize { k.iter().take_while(|&&d| d != NO_DOF).count() };
         let p = Arc::new(
             self.element
-                .with_groups(self.reserved.iter().map(|k| &k[..free(k)])),
+                .with_groups(self.reserved.iter().map(|k| free_unknowns(k))),
         );
         self.map = embed(&self.element, &p);
         self.key_slots.clear();
@@ -247,14 +251,21 @@ impl TangentPattern {
         if self.combined.is_none() {
             self.build();
         }
-        if keys.iter().any(|k| !self.index.contains_key(k)) {
+        // each contact's coupling (one lookup); a coupling not reserved rebuilds the pattern
+        let mut found: Vec<u32> = keys
+            .iter()
+            .map(|k| self.index.get(k).copied().unwrap_or(u32::MAX))
+            .collect();
+        if found.contains(&u32::MAX) {
             self.rebuild(&keys);
+            found.clear();
+            found.extend(keys.iter().map(|k| self.index[k]));
         }
         // bind: each contact's slots, from its coupling's, in the contact's own order
         self.contact_slots.clear();
         self.contact_slots.resize(keys.len() * n2, u32::MAX);
-        for (ci, (c, key)) in contacts.contacts.iter().zip(&keys).enumerate() {
-            let ki = self.index[key] as usize;
+        for (ci, ((c, key), &ki)) in contacts.contacts.iter().zip(&keys).zip(&found).enumerate() {
+            let ki = ki as usize;
             self.last_used[ki] = self.step;
             let g = ki * n2;
             let out = &mut self.contact_slots[ci * n2..(ci + 1) * n2];
@@ -301,10 +312,10 @@ fn bind(key: &[usize], dofs: &[usize], slots: &[u32], out: &mut [u32]) {
 fn sorted_group_slots(p: &SparsePattern, key: &[usize], out: &mut [u32]) {
     let m = key.len();
     out.iter_mut().for_each(|s| *s = u32::MAX);
-    let free = key.iter().take_while(|&&d| d != NO_DOF).count();
-    for (j, &col) in key[..free].iter().enumerate() {
+    let free = free_unknowns(key);
+    for (j, &col) in free.iter().enumerate() {
         let (mut k, end) = (p.col_ptr[col], p.col_ptr[col + 1]);
-        for (i, &row) in key[..free].iter().enumerate() {
+        for (i, &row) in free.iter().enumerate() {
             while k < end && p.row_idx[k] < row {
                 k += 1;
             }

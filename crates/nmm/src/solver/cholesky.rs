@@ -7,11 +7,20 @@
 //! 1,000 unknowns: 0.3 against 0.5 ms), at the cost of 20–50% more stored values (the
 //! padding of the supernodes).
 //!
-//! The triangular solves are faer's supernodal ones. Measured and rejected (2026-12-03):
-//! a column-by-column copy of the factor after each factorisation, solved with faer's
-//! sparse triangular solves — on the arch example (2,520 steps; 1,000 unknowns, 26,000
-//! values in the factor) the solves took 1.93 s instead of 2.03 s and the copies as much
-//! again (run 6.09 against 6.13 s).
+//! The triangular solves (one pair per GMRES iteration: about 60% of an iteration's time on
+//! the block models) run over faer's supernodal factor in `supernodal_solve`: plain loops
+//! over each narrow supernode's contiguous columns, faer's dense kernels for supernodes of
+//! `WIDE_SUPERNODE` columns or more. Measured (2026-12-03, alternated against the build
+//! before, which called faer's supernodal solve): the arch example (8,020 steps; 1,000
+//! unknowns, 116 supernodes, 26,000 values in the factor) solve stage 6.4–6.9 → 5.6–5.7 s,
+//! run 18.8–20.6 → 18.3–18.8 s; the brick walls (wide supernodes) unchanged; the shaken
+//! slope (922 unknowns, 47,000 values) about 5% off its solve stage. The threshold: 8 and 64
+//! were no better on the arch, 64 worse on the 40×40 wall (solve 2.65 against 2.36 s).
+//! Measured and rejected: a column-by-column copy of the factor after each factorisation,
+//! solved with faer's sparse triangular solves (arch, 2,520 steps: solve 2.03 → 1.93 s, the
+//! copies as much again); a more relaxed supernode amalgamation ((8, 1.0), (32, 0.8), (64,
+//! 0.2) and wider: 93 and 83 supernodes with 32,800 and 40,500 values instead of 25,800 on
+//! the arch, the same run time).
 //!
 //! The symbolic analysis is done here in two parts: faer's AMD ordering P of the pattern
 //! (the ordering faer's own analysis would take), then faer's supernodal analysis of
@@ -32,14 +41,17 @@
 use super::linear::SolveError;
 use super::sparse::{SparseMatrix, SparsePattern};
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::{matmul, triangular_solve};
+use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::sparse::linalg::amd;
+use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
     SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Par, Side};
+use faer::{Accum, Conj, MatMut, MatRef, Par, Side};
 use std::sync::Arc;
 
 /// A Cholesky factorisation with reusable storage (see the module docs).
@@ -61,6 +73,8 @@ pub struct Cholesky {
     gather: Vec<u32>,
     /// A right-hand side in the factor's order.
     permuted: Vec<f64>,
+    /// The below-diagonal part of one supernode times a vector (the triangular solves').
+    below: Vec<f64>,
     /// faer's workspaces with the (size, alignment) they were made for.
     factor_work: Option<(MemBuffer, (usize, usize))>,
     solve_work: Option<(MemBuffer, (usize, usize))>,
@@ -263,6 +277,14 @@ impl Cholesky {
         .map_err(faer_error)?;
         try_zeroed(&mut self.lower_values, lower_ptr[n])?;
         try_zeroed(&mut self.permuted, n)?;
+        let widest_below = match s.raw() {
+            SymbolicCholeskyRaw::Supernodal(sn) => (0..sn.n_supernodes())
+                .map(|k| sn.supernode(k).pattern().len())
+                .max()
+                .unwrap_or(0),
+            SymbolicCholeskyRaw::Simplicial(_) => 0,
+        };
+        try_zeroed(&mut self.below, widest_below)?;
         self.lower_col_ptr = lower_ptr;
         self.lower_row_idx = lower_rows;
         try_zeroed(&mut self.values, s.len_val())?;
@@ -328,18 +350,25 @@ impl Cholesky {
             return Err(SolveError::Other("solve before factorize".into()));
         }
         let s = self.symbolic.as_ref().expect("symbolic analysis");
-        let l = LltRef::<'_, usize, f64>::new(s, &self.values);
         let n = b.len();
         for (&i, &v) in self.inv.iter().zip(b.iter()) {
             self.permuted[i] = v;
         }
-        let work = &mut self.solve_work.as_mut().expect("workspace").0;
-        l.solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut self.permuted, n, 1),
-            Par::Seq,
-            MemStack::new(work),
-        );
+        match s.raw() {
+            SymbolicCholeskyRaw::Supernodal(sn) => {
+                supernodal_solve(sn, &self.values, &mut self.permuted, &mut self.below)
+            }
+            SymbolicCholeskyRaw::Simplicial(_) => {
+                let l = LltRef::<'_, usize, f64>::new(s, &self.values);
+                let work = &mut self.solve_work.as_mut().expect("workspace").0;
+                l.solve_in_place_with_conj(
+                    Conj::No,
+                    MatMut::from_column_major_slice_mut(&mut self.permuted, n, 1),
+                    Par::Seq,
+                    MemStack::new(work),
+                );
+            }
+        }
         for (&i, x) in self.inv.iter().zip(b.iter_mut()) {
             *x = self.permuted[i];
         }
@@ -347,6 +376,133 @@ impl Cholesky {
             Ok(())
         } else {
             Err(SolveError::Singular)
+        }
+    }
+}
+
+/// L Lᵀ x = b in place (`x`: b on entry, in the factor's order) with faer's supernodal
+/// factor: each supernode a dense column-major block of its w columns over its w diagonal
+/// rows and the rows of its pattern, the diagonal block lower triangular. The same
+/// operations as faer's own supernodal solve (a triangular solve on the diagonal block, a
+/// product with the block below it), as plain loops over the block's contiguous columns:
+/// faer's solve calls a dense kernel per supernode and pass, whose dispatch dominated on the
+/// block models' narrow supernodes (the arch example: 116 supernodes of 1,000 unknowns,
+/// 26,000 values; 60 µs a solve, 60% of a GMRES iteration).
+/// Σ aᵢ bᵢ in four interleaved partial sums (vectorised; a fixed order, so the same on
+/// every run).
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let (ac, bc) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = ac
+        .remainder()
+        .iter()
+        .zip(bc.remainder())
+        .map(|(x, y)| x * y)
+        .sum();
+    let mut s = [0.0; 4];
+    for (x, y) in ac.zip(bc) {
+        for i in 0..4 {
+            s[i] += x[i] * y[i];
+        }
+    }
+    (s[0] + s[1]) + (s[2] + s[3]) + tail
+}
+
+/// Supernodes at least this wide are solved with faer's dense kernels (on the brick walls'
+/// wide supernodes they were faster than the plain loops).
+const WIDE_SUPERNODE: usize = 16;
+
+fn supernodal_solve(
+    sn: &faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky<usize>,
+    values: &[f64],
+    x: &mut [f64],
+    below: &mut [f64],
+) {
+    let (begin, end, val_ptr) = (
+        sn.supernode_begin(),
+        sn.supernode_end(),
+        sn.col_ptr_for_val(),
+    );
+    // forward: L y = b
+    for k in 0..sn.n_supernodes() {
+        let (b, w) = (begin[k], end[k] - begin[k]);
+        let pattern = sn.supernode(k).pattern();
+        let rows = w + pattern.len();
+        let l = &values[val_ptr[k]..val_ptr[k + 1]];
+        if w >= WIDE_SUPERNODE {
+            let (ltop, lbot) = MatRef::from_column_major_slice(l, rows, w).split_at_row(w);
+            let mut top = MatMut::from_column_major_slice_mut(&mut x[b..b + w], w, 1);
+            triangular_solve::solve_lower_triangular_in_place(ltop, top.rb_mut(), Par::Seq);
+            let t = &mut below[..pattern.len()];
+            matmul::matmul(
+                MatMut::from_column_major_slice_mut(t, pattern.len(), 1),
+                Accum::Replace,
+                lbot,
+                top.rb(),
+                1.0,
+                Par::Seq,
+            );
+            for (&r, &tv) in pattern.iter().zip(t.iter()) {
+                x[r] -= tv;
+            }
+            continue;
+        }
+        let top = &mut x[b..b + w];
+        for c in 0..w {
+            let col = &l[c * rows..c * rows + w];
+            let xc = top[c] / col[c];
+            top[c] = xc;
+            for (t, &v) in top[c + 1..].iter_mut().zip(&col[c + 1..]) {
+                *t -= v * xc;
+            }
+        }
+        let t = &mut below[..pattern.len()];
+        t.iter_mut().for_each(|v| *v = 0.0);
+        for (c, &xc) in top.iter().enumerate() {
+            for (tv, &v) in t.iter_mut().zip(&l[c * rows + w..(c + 1) * rows]) {
+                *tv += v * xc;
+            }
+        }
+        for (&r, &tv) in pattern.iter().zip(t.iter()) {
+            x[r] -= tv;
+        }
+    }
+    // backward: Lᵀ x = y
+    for k in (0..sn.n_supernodes()).rev() {
+        let (b, w) = (begin[k], end[k] - begin[k]);
+        let pattern = sn.supernode(k).pattern();
+        let rows = w + pattern.len();
+        let l = &values[val_ptr[k]..val_ptr[k + 1]];
+        let t = &mut below[..pattern.len()];
+        for (tv, &r) in t.iter_mut().zip(pattern) {
+            *tv = x[r];
+        }
+        if w >= WIDE_SUPERNODE {
+            let (ltop, lbot) = MatRef::from_column_major_slice(l, rows, w).split_at_row(w);
+            let mut top = MatMut::from_column_major_slice_mut(&mut x[b..b + w], w, 1);
+            matmul::matmul(
+                top.rb_mut(),
+                Accum::Add,
+                lbot.transpose(),
+                MatRef::from_column_major_slice(&t[..], pattern.len(), 1),
+                -1.0,
+                Par::Seq,
+            );
+            triangular_solve::solve_upper_triangular_in_place(ltop.transpose(), top, Par::Seq);
+            continue;
+        }
+        let top = &mut x[b..b + w];
+        for (c, xc) in top.iter_mut().enumerate() {
+            *xc -= dot(&l[c * rows + w..(c + 1) * rows], t);
+        }
+        for c in (0..w).rev() {
+            let col = &l[c * rows..c * rows + w];
+            let s: f64 = col[c + 1..]
+                .iter()
+                .zip(&top[c + 1..])
+                .map(|(v, xv)| v * xv)
+                .sum();
+            top[c] = (top[c] - s) / col[c];
         }
     }
 }
@@ -417,6 +573,85 @@ mod tests {
         neg.values.iter_mut().for_each(|v| *v = -*v);
         assert_eq!(c.factorize(&neg), Err(SolveError::NotPositiveDefinite));
         assert!(!c.is_valid());
+    }
+}
+
+#[cfg(test)]
+mod solve_tests {
+    use super::*;
+
+    /// A 2-D grid of blocks, each a dense group of `dofs` unknowns coupled to its right and
+    /// upper neighbours (like covers of blocks in contact), diagonally dominant.
+    fn block_grid(nx: usize, ny: usize, dofs: usize) -> SparseMatrix {
+        let n = nx * ny * dofs;
+        let at = |i: usize, j: usize| (j * nx + i) * dofs;
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        for j in 0..ny {
+            for i in 0..nx {
+                let own: Vec<usize> = (at(i, j)..at(i, j) + dofs).collect();
+                for (di, dj) in [(1, 0), (0, 1)] {
+                    if i + di < nx && j + dj < ny {
+                        let mut g = own.clone();
+                        g.extend(at(i + di, j + dj)..at(i + di, j + dj) + dofs);
+                        groups.push(g);
+                    }
+                }
+                groups.push(own);
+            }
+        }
+        let p = Arc::new(SparsePattern::from_groups(n, groups.iter().map(|g| &g[..])));
+        let mut a = SparseMatrix::zeros(p.clone());
+        for c in 0..n {
+            for k in p.col_ptr[c]..p.col_ptr[c + 1] {
+                let r = p.row_idx[k];
+                if r > c {
+                    let v = -(((r * 7 + c * 13) % 10) as f64 + 1.0) / 40.0;
+                    a.add(r, c, v);
+                    a.add(c, r, v);
+                }
+            }
+        }
+        for c in 0..n {
+            let off: f64 = (p.col_ptr[c]..p.col_ptr[c + 1])
+                .filter(|&k| p.row_idx[k] != c)
+                .map(|k| a.values[k].abs())
+                .sum();
+            a.add(c, c, off + 1.0 + (c % 3) as f64);
+        }
+        a
+    }
+
+    /// The plain-loop supernodal solve and faer's dense kernels (wide supernodes) give the
+    /// solution of A x = b: narrow supernodes (2 unknowns a block) and wide ones (24).
+    #[test]
+    fn supernodal_solve_solves_narrow_and_wide_supernodes() {
+        for (nx, ny, dofs) in [(12, 9, 2), (6, 5, 24), (30, 1, 6)] {
+            let a = block_grid(nx, ny, dofs);
+            let n = a.n();
+            let mut c = Cholesky::default();
+            c.factorize(&a).unwrap();
+            let SymbolicCholeskyRaw::Supernodal(sn) = c.symbolic.as_ref().unwrap().raw() else {
+                panic!("supernodal")
+            };
+            let widest = (0..sn.n_supernodes())
+                .map(|k| sn.supernode_end()[k] - sn.supernode_begin()[k])
+                .max()
+                .unwrap();
+            if dofs == 24 {
+                assert!(widest >= WIDE_SUPERNODE, "{widest}");
+            }
+            let b: Vec<f64> = (0..n).map(|i| ((i * 37 % 11) as f64 - 5.0) / 3.0).collect();
+            let mut x = b.clone();
+            c.solve_in_place(&mut x).unwrap();
+            let mut y = vec![0.0; n];
+            a.mul_vec(&x, &mut y);
+            let err = y
+                .iter()
+                .zip(&b)
+                .map(|(p, q)| (p - q).abs())
+                .fold(0.0, f64::max);
+            assert!(err < 1e-11, "{nx}x{ny}x{dofs}: {err}");
+        }
     }
 }
 

@@ -38,6 +38,7 @@
 //! factorisation and solve. Every allocation is fallible: an allocation failure is
 //! [`SolveError::OutOfMemory`], never an abort.
 
+use super::dot;
 use super::linear::SolveError;
 use super::sparse::{SparseMatrix, SparsePattern};
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -388,26 +389,6 @@ impl Cholesky {
 /// faer's solve calls a dense kernel per supernode and pass, whose dispatch dominated on the
 /// block models' narrow supernodes (the arch example: 116 supernodes of 1,000 unknowns,
 /// 26,000 values; 60 µs a solve, 60% of a GMRES iteration).
-/// Σ aᵢ bᵢ in four interleaved partial sums (vectorised; a fixed order, so the same on
-/// every run).
-#[inline]
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let (ac, bc) = (a.chunks_exact(4), b.chunks_exact(4));
-    let tail: f64 = ac
-        .remainder()
-        .iter()
-        .zip(bc.remainder())
-        .map(|(x, y)| x * y)
-        .sum();
-    let mut s = [0.0; 4];
-    for (x, y) in ac.zip(bc) {
-        for i in 0..4 {
-            s[i] += x[i] * y[i];
-        }
-    }
-    (s[0] + s[1]) + (s[2] + s[3]) + tail
-}
-
 /// Supernodes at least this wide are solved with faer's dense kernels (on the brick walls'
 /// wide supernodes they were faster than the plain loops).
 const WIDE_SUPERNODE: usize = 16;

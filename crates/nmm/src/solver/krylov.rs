@@ -8,6 +8,8 @@
 //! for bit on every run and for every thread count. Storage (restart + 1 vectors) is
 //! allocated once and reused.
 
+use super::dot;
+
 /// What one solve did.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct GmresReport {
@@ -30,10 +32,6 @@ pub struct Gmres {
     g: Vec<f64>,
     w: Vec<f64>,
     z: Vec<f64>,
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 impl Gmres {

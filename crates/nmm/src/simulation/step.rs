@@ -358,6 +358,24 @@ pub(crate) fn sym_mul(p: &SparsePattern, a: &[f64], x: &[f64], y: &mut [f64]) {
     }
 }
 
+/// y = A v for a symmetric A over `p` whose entry in slot k is `value(k)`, by rows (= columns),
+/// each row one ordered sum (the same result for every thread count).
+fn rows_mul(
+    threads: &crate::parallel::Threads,
+    p: &SparsePattern,
+    value: impl Fn(usize) -> f64 + Sync,
+    v: &[f64],
+    y: &mut [f64],
+) {
+    threads.for_each_mut(y, |i, yi| {
+        let mut s = 0.0;
+        for k in p.col_ptr[i]..p.col_ptr[i + 1] {
+            s += value(k) * v[p.row_idx[k]];
+        }
+        *yi = s;
+    });
+}
+
 pub(crate) struct StepSystem<'a> {
     pub l: &'a [f64],
     pub m: &'a [f64],
@@ -400,21 +418,9 @@ impl TangentOperator for StepSystem<'_> {
         // regularisation (every dynamic step) L alone: l + 0·m is l, bit for bit, and M's
         // values need not be read
         if sigma == 0.0 {
-            self.threads.for_each_mut(y, |i, yi| {
-                let mut s = 0.0;
-                for k in p.col_ptr[i]..p.col_ptr[i + 1] {
-                    s += l[k] * v[p.row_idx[k]];
-                }
-                *yi = s;
-            });
+            rows_mul(self.threads, p, |k| l[k], v, y);
         } else {
-            self.threads.for_each_mut(y, |i, yi| {
-                let mut s = 0.0;
-                for k in p.col_ptr[i]..p.col_ptr[i + 1] {
-                    s += (l[k] + sigma * m[k]) * v[p.row_idx[k]];
-                }
-                *yi = s;
-            });
+            rows_mul(self.threads, p, |k| l[k] + sigma * m[k], v, y);
         }
         self.contacts.apply_tangent(v, y);
         self.bolts.apply_tangent(v, y);

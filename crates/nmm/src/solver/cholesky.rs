@@ -381,6 +381,10 @@ impl Cholesky {
     }
 }
 
+/// Supernodes at least this wide are solved with faer's dense kernels (on the brick walls'
+/// wide supernodes they were faster than the plain loops).
+const WIDE_SUPERNODE: usize = 16;
+
 /// L Lᵀ x = b in place (`x`: b on entry, in the factor's order) with faer's supernodal
 /// factor: each supernode a dense column-major block of its w columns over its w diagonal
 /// rows and the rows of its pattern, the diagonal block lower triangular. The same
@@ -389,10 +393,6 @@ impl Cholesky {
 /// faer's solve calls a dense kernel per supernode and pass, whose dispatch dominated on the
 /// block models' narrow supernodes (the arch example: 116 supernodes of 1,000 unknowns,
 /// 26,000 values; 60 µs a solve, 60% of a GMRES iteration).
-/// Supernodes at least this wide are solved with faer's dense kernels (on the brick walls'
-/// wide supernodes they were faster than the plain loops).
-const WIDE_SUPERNODE: usize = 16;
-
 fn supernodal_solve(
     sn: &faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky<usize>,
     values: &[f64],
@@ -404,12 +404,21 @@ fn supernodal_solve(
         sn.supernode_end(),
         sn.col_ptr_for_val(),
     );
-    // forward: L y = b
-    for k in 0..sn.n_supernodes() {
+    // supernode k: its first column, width, pattern, rows and column-major block
+    let block = |k: usize| {
         let (b, w) = (begin[k], end[k] - begin[k]);
         let pattern = sn.supernode(k).pattern();
-        let rows = w + pattern.len();
-        let l = &values[val_ptr[k]..val_ptr[k + 1]];
+        (
+            b,
+            w,
+            pattern,
+            w + pattern.len(),
+            &values[val_ptr[k]..val_ptr[k + 1]],
+        )
+    };
+    // forward: L y = b
+    for k in 0..sn.n_supernodes() {
+        let (b, w, pattern, rows, l) = block(k);
         if w >= WIDE_SUPERNODE {
             let (ltop, lbot) = MatRef::from_column_major_slice(l, rows, w).split_at_row(w);
             let mut top = MatMut::from_column_major_slice_mut(&mut x[b..b + w], w, 1);
@@ -450,10 +459,7 @@ fn supernodal_solve(
     }
     // backward: Lᵀ x = y
     for k in (0..sn.n_supernodes()).rev() {
-        let (b, w) = (begin[k], end[k] - begin[k]);
-        let pattern = sn.supernode(k).pattern();
-        let rows = w + pattern.len();
-        let l = &values[val_ptr[k]..val_ptr[k + 1]];
+        let (b, w, pattern, rows, l) = block(k);
         let t = &mut below[..pattern.len()];
         for (tv, &r) in t.iter_mut().zip(pattern) {
             *tv = x[r];

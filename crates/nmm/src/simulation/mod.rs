@@ -889,6 +889,7 @@ impl Simulation {
                 Regularisation::None { fallback: cm },
                 MAX_REJECTIONS,
                 None,
+                false,
                 &mut du,
             );
             (rep, true)
@@ -989,6 +990,7 @@ impl Simulation {
         regularisation: Regularisation,
         max_rejections: usize,
         tolerance: Option<f64>,
+        warm: bool,
         du: &mut [f64],
     ) -> crate::solver::NewtonReport {
         let (max_iterations, tolerance) = (
@@ -1003,6 +1005,7 @@ impl Simulation {
             regularisation,
             max_rejections,
             max_step,
+            warm_start: warm,
         };
         // a fresh factorisation at the first solve of every step, and when the inertia
         // coefficient or the regularisation changed (see TangentSolver)

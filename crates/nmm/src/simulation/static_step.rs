@@ -42,6 +42,7 @@ impl Simulation {
                 Regularisation::None { fallback: cm },
                 0,
                 None,
+                false,
                 du,
             );
             if !rep.converged {
@@ -60,6 +61,7 @@ impl Simulation {
                 },
                 1,
                 None,
+                false,
                 du,
             );
             rep.iterations += spent;
@@ -102,6 +104,7 @@ impl Simulation {
                     Regularisation::None { fallback: c },
                     MAX_REJECTIONS,
                     None,
+                    false,
                     du,
                 );
                 spent += r.iterations;
@@ -151,7 +154,14 @@ impl Simulation {
     /// σ_k, well conditioned whatever the contacts do), then lowers σ with the static
     /// residual (σ_{k+1} = σ_k ‖R(Δu_{k+1})‖/‖R(Δu_k)‖, switched evolution relaxation) until
     /// the static residual ‖R‖ is below the tolerance: the point reached is the static
-    /// equilibrium. Returns the report (iterations summed over the inner solves) and
+    /// equilibrium. Each inner solve after a converged one starts from the contacts'
+    /// branches that solve ended on (a warm start, [`crate::solver::NewtonOptions`]): the
+    /// problems differ only in σ and the anchor, and their active sets little. Measured
+    /// (`examples/shaken_slope.toml`, its settle's first step: gravity on 61 blocks at rest):
+    /// the inner solves took 20, 9, 9, 7, 5, 5 linear solves choosing afresh, each first
+    /// direction from the fresh choice raising the residual by 10⁴–10⁸ and returned from by
+    /// the watchdog; 20, 4, 4, 2, 1, 1 warm; the step 61 → 38 solves, the stage 71 → 48.
+    /// Returns the report (iterations summed over the inner solves) and
     /// whether the equilibrium was reached; it is not when the residual stops falling (a
     /// mechanism: no equilibrium exists) or the outer iterations run out.
     fn static_continuation(
@@ -167,6 +177,8 @@ impl Simulation {
         let (mut merit, _) = self.static_merit(rhs, du);
         let mut total = NewtonReport::default();
         let mut stalled = 0;
+        // the contacts' branches are those the last inner solve converged on
+        let mut warm = false;
         for _ in 0..STATIC_OUTER_ITERATIONS {
             // the inner problem only needs to be solved well below the static residual
             let (_, scale) = self.static_merit(rhs, du);
@@ -178,6 +190,7 @@ impl Simulation {
                 Regularisation::None { fallback: sigma },
                 MAX_REJECTIONS,
                 Some(inner),
+                warm,
                 du,
             );
             total.iterations += rep.iterations;
@@ -188,6 +201,7 @@ impl Simulation {
             if rep.error.is_some() {
                 return (total, false);
             }
+            warm = rep.converged;
             if !rep.converged {
                 // the inner problem needs more inertia: from the last anchor
                 du.copy_from_slice(&anchor);

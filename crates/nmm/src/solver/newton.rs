@@ -131,6 +131,11 @@ pub struct NewtonOptions {
     /// Largest size of one iteration's direction ([`PiecewiseSystem::step_size`]; the trust
     /// region; `f64::INFINITY` for none).
     pub max_step: f64,
+    /// The system's branches on entry are those a solve of the same pieces ended on (the
+    /// same step with another regularisation): the first choice keeps them where the rules
+    /// allow, as every later choice keeps the last (`choose_branches(x, false)`), instead
+    /// of choosing afresh as at the start of a step.
+    pub warm_start: bool,
 }
 
 #[derive(Debug, Clone, Default)]
@@ -218,7 +223,7 @@ pub fn solve_piecewise(
     let continuation = matches!(opts.regularisation, Regularisation::Continuation { .. });
 
     let t = Instant::now();
-    sys.choose_branches(x, true);
+    sys.choose_branches(x, !opts.warm_start);
     let mut inconsistent = sys.residual(x, &mut r);
     rep.times.contact += t.elapsed();
     let mut phi = norm(&r);
@@ -436,6 +441,8 @@ mod tests {
         sigma: f64,
         pattern: Arc<SparsePattern>,
         scale: f64,
+        /// The `first` flag of every choice of branches.
+        firsts: Vec<bool>,
     }
 
     impl Chain {
@@ -483,7 +490,8 @@ mod tests {
     }
 
     impl PiecewiseSystem for Chain {
-        fn choose_branches(&mut self, x: &[f64], _first: bool) -> usize {
+        fn choose_branches(&mut self, x: &[f64], first: bool) -> usize {
+            self.firsts.push(first);
             self.choose_own_branches(x)
         }
         fn choose_own_branches(&mut self, x: &[f64]) -> usize {
@@ -557,6 +565,7 @@ mod tests {
             sigma: 0.0,
             pattern,
             scale: 0.0,
+            firsts: Vec::new(),
         }
     }
 
@@ -575,6 +584,7 @@ mod tests {
                 regularisation: Regularisation::None { fallback: 1.0 },
                 max_rejections: MAX_REJECTIONS,
                 max_step: f64::INFINITY,
+                warm_start: false,
             },
         );
         assert!(rep.converged, "{rep:?}");
@@ -599,6 +609,33 @@ mod tests {
         assert_eq!(best, last);
     }
 
+    /// A warm start keeps the branches held on entry as the first choice's previous ones
+    /// (`choose_branches(x, false)`); a cold one chooses afresh (`first`), then keeps them.
+    #[test]
+    fn a_warm_start_keeps_the_branches_held_on_entry() {
+        for warm in [false, true] {
+            let mut sys = chain(20);
+            let mut x = vec![0.0; 20];
+            let rep = solve_piecewise(
+                &mut sys,
+                &mut TangentSolver::default(),
+                &mut x,
+                NewtonOptions {
+                    max_iterations: 30,
+                    tolerance: 1e-12,
+                    regularisation: Regularisation::None { fallback: 1.0 },
+                    max_rejections: MAX_REJECTIONS,
+                    max_step: f64::INFINITY,
+                    warm_start: warm,
+                },
+            );
+            assert!(rep.converged);
+            assert!(sys.firsts.len() >= 2, "{:?}", sys.firsts);
+            assert_eq!(sys.firsts[0], !warm);
+            assert!(sys.firsts[1..].iter().all(|&f| !f), "{:?}", sys.firsts);
+        }
+    }
+
     #[test]
     fn continuation_converges_to_the_unregularised_solution() {
         let mut a = chain(30);
@@ -610,6 +647,7 @@ mod tests {
             regularisation: reg,
             max_rejections: MAX_REJECTIONS,
             max_step: f64::INFINITY,
+            warm_start: false,
         };
         let ra = solve_piecewise(
             &mut a,

@@ -22,6 +22,18 @@
 //! 0.2) and wider: 93 and 83 supernodes with 32,800 and 40,500 values instead of 25,800 on
 //! the arch, the same run time).
 //!
+//! Measured and rejected (2026-12-04, 40×40 wall, 19,200 unknowns): one level of nested
+//! dissection so that two threads factorise and solve the two halves (each half with the
+//! separator appended and ordered last, the separator's Schur complement T₀T₀ᵀ + T₁T₁ᵀ − Aₛₛ
+//! from the halves' trailing blocks, factorised densely). Graph separators of the tangent
+//! were large — 430–650 unknowns from breadth-first level structures or the bisector
+//! d(u, ·) − d(v, ·) of a pseudo-peripheral pair, the contacts coupling 24 unknowns each —
+//! and the halves held 3.6–4.2 million values against 2.48 million for AMD on the whole: on
+//! two threads the larger half alone took 52–56 ms against 49 ms for the whole on one.
+//! Splitting AMD's own elimination tree instead (no extra fill) leaves 19–23% of the flops
+//! in its top (the ancestors of two balanced subtrees, 850–980 columns), which the split
+//! would factorise three times. faer's parallel factorisation: 55 against 49 ms.
+//!
 //! The symbolic analysis is done here in two parts: faer's AMD ordering P of the pattern
 //! (the ordering faer's own analysis would take), then faer's supernodal analysis of
 //! P A Pᵀ with no further ordering. Each numeric factorisation gathers A's values once,

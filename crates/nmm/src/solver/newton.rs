@@ -569,24 +569,24 @@ mod tests {
         }
     }
 
+    /// Options of an unregularised (dynamic-like) solve to 1e-12.
+    fn dynamic_options(warm_start: bool) -> NewtonOptions {
+        NewtonOptions {
+            max_iterations: 30,
+            tolerance: 1e-12,
+            regularisation: Regularisation::None { fallback: 1.0 },
+            max_rejections: MAX_REJECTIONS,
+            max_step: f64::INFINITY,
+            warm_start,
+        }
+    }
+
     #[test]
     fn active_set_newton_converges_exactly_once_the_set_is_right() {
         let mut sys = chain(40);
         let mut x = vec![0.0; 40];
         let mut lin = TangentSolver::default();
-        let rep = solve_piecewise(
-            &mut sys,
-            &mut lin,
-            &mut x,
-            NewtonOptions {
-                max_iterations: 30,
-                tolerance: 1e-12,
-                regularisation: Regularisation::None { fallback: 1.0 },
-                max_rejections: MAX_REJECTIONS,
-                max_step: f64::INFINITY,
-                warm_start: false,
-            },
-        );
+        let rep = solve_piecewise(&mut sys, &mut lin, &mut x, dynamic_options(false));
         assert!(rep.converged, "{rep:?}");
         // the last accepted iterate is exact: its residual is round-off
         let last = *rep.residuals.last().unwrap();
@@ -620,14 +620,7 @@ mod tests {
                 &mut sys,
                 &mut TangentSolver::default(),
                 &mut x,
-                NewtonOptions {
-                    max_iterations: 30,
-                    tolerance: 1e-12,
-                    regularisation: Regularisation::None { fallback: 1.0 },
-                    max_rejections: MAX_REJECTIONS,
-                    max_step: f64::INFINITY,
-                    warm_start: warm,
-                },
+                dynamic_options(warm),
             );
             assert!(rep.converged);
             assert!(sys.firsts.len() >= 2, "{:?}", sys.firsts);

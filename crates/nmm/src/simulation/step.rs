@@ -346,16 +346,10 @@ fn embed(small: &SparsePattern, big: &SparsePattern) -> Vec<u32> {
     map
 }
 
-/// y = A x for a symmetric A stored in full over `p` (computed by rows = columns, so each
-/// y_i is one ordered sum).
+/// y = A x for a symmetric A stored in full over `p`, on the calling thread ([`rows_mul`]:
+/// each y_i one ordered sum).
 pub(crate) fn sym_mul(p: &SparsePattern, a: &[f64], x: &[f64], y: &mut [f64]) {
-    for (i, yi) in y.iter_mut().enumerate() {
-        let mut s = 0.0;
-        for k in p.col_ptr[i]..p.col_ptr[i + 1] {
-            s += a[k] * x[p.row_idx[k]];
-        }
-        *yi = s;
-    }
+    rows_mul(&crate::parallel::Threads::default(), p, |k| a[k], x, y);
 }
 
 /// y = A v for a symmetric A over `p` whose entry in slot k is `value(k)`, by rows (= columns),
@@ -398,7 +392,9 @@ pub(crate) struct StepSystem<'a> {
 
 impl StepSystem<'_> {
     fn linear_residual(&self, x: &[f64], r: &mut [f64]) {
-        sym_mul(self.tangent.element(), self.l, x, r);
+        // the same row sums as sym_mul, on the run's threads
+        let l = self.l;
+        rows_mul(self.threads, self.tangent.element(), |k| l[k], x, r);
         for (ri, fi) in r.iter_mut().zip(self.f) {
             *ri = fi - *ri;
         }

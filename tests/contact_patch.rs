@@ -151,3 +151,35 @@ fn oblique_interface_between_two_materials_transmits_a_uniform_pressure() {
         );
     }
 }
+
+/// With the interface on a mesh line, each contact's vertex and the point it faces lie on
+/// mesh edges: the third cover of each element has weight zero there, its rows are exact
+/// zeros, and the contact does not couple its unknowns in the tangent
+/// (`Contact::coupled_dofs`; contact/set.rs, `ZERO_WEIGHT`) — before, every contact coupled
+/// all 12, through rows of 10⁻¹⁷ that the factorisation filled in. The pressure is still
+/// transmitted exactly. Off the mesh lines contacts couple all of their unknowns.
+#[test]
+fn a_contact_on_a_mesh_line_couples_only_the_covers_of_the_edge() {
+    use nmm::cover::basis::NO_DOF;
+    let h = 0.05;
+    let coupled = |sim: &Simulation| -> Vec<usize> {
+        let c = &sim.contacts.contacts;
+        c.iter()
+            .map(|c| c.coupled_dofs().iter().filter(|&&d| d != NO_DOF).count())
+            .collect()
+    };
+    let on = patch(h, [0.013, 0.0], 0.0, 0.4, 0.4);
+    check("on a mesh line", &on, 0.4);
+    let n = coupled(&on);
+    assert!(
+        n.iter().all(|&k| k <= 8),
+        "on a mesh line: coupled unknowns {n:?}"
+    );
+    let off = patch(h, [0.013, h / 3.0], 0.0, 0.4, 0.4);
+    check("a third of the way", &off, 0.4);
+    let n = coupled(&off);
+    assert!(
+        n.contains(&12),
+        "off the mesh lines: coupled unknowns {n:?}"
+    );
+}

@@ -244,6 +244,19 @@ impl Contact {
         Some((self.dofs.fixed()?, self.bn.fixed()?, self.bs.fixed()?))
     }
 
+    /// The unknowns the contact couples in the tangent: those whose rows are not both
+    /// zero — a cover of weight zero at the vertex or at the point it faces (a point on a
+    /// mesh edge, [`ZERO_WEIGHT`]) has rows of exact zeros —; [`NO_DOF`] for the others.
+    pub fn coupled_dofs(&self) -> ContactRow<usize> {
+        let mut dofs = self.dofs.clone();
+        for ((d, &bn), &bs) in dofs.iter_mut().zip(self.bn.iter()).zip(self.bs.iter()) {
+            if bn == 0.0 && bs == 0.0 {
+                *d = NO_DOF;
+            }
+        }
+        dofs
+    }
+
     /// (g_N, Δg_S) at the increment `du`.
     #[inline(always)]
     pub fn gaps(&self, du: &[f64]) -> (f64, f64) {
@@ -561,9 +574,38 @@ fn tributary(
     w
 }
 
+/// A weight of a contact point's cover below this is zero up to round-off: the point lies
+/// on the opposite edge of the element's triangle (within 10⁻⁹ of its height). Every shape
+/// function of a cover is its weight times a polynomial ([`crate::cover::basis`]), so that
+/// cover's rows are then exact zeros, and the tangent's pattern leaves the contact's
+/// coupling with its unknowns out (simulation/step.rs, `TangentPattern`).
+///
+/// Why: vertices on mesh lines are common — every vertex of a refined boundary where a mesh
+/// line crosses it, and every brick corner of a wall whose cover divides the bricks — and
+/// their contacts coupled all six (order 0) or eighteen (order 1) unknowns of both elements,
+/// a third of them through rows of 10⁻¹⁷, which the factorisation filled in like any other
+/// coupling. Measured: see `TangentPattern`.
+///
+/// Measured and rejected: a tolerance of 10⁻³ (a point within 10⁻³ of the triangle's height
+/// of an edge taken onto it) also kept a settling wall's corner contacts, whose edge point
+/// wanders micrometres about a mesh line, on one coupling from step to step (one symbolic
+/// analysis in 12 steps instead of 12; 20×20 wall 117 ms/step, 40×40 551, against 145 and
+/// 805–815 with 10⁻⁹ and 270 and 1,162 before, alternated in one slow hour), but failed the
+/// contact patch test (`tests/contact_patch.rs`) by 18–40% of the traction with the
+/// interface 10⁻³ h from a mesh line: the cover it drops there is a sliver's, whose
+/// displacement is large enough that a weight of 10⁻³ matters.
+const ZERO_WEIGHT: f64 = 1e-9;
+
+/// `w` with the weights below [`ZERO_WEIGHT`] set to zero (the others as they are: they
+/// sum to 1 within 10⁻⁹, and a weight that small is round-off of an exact zero).
+fn without_zero_weights(w: &[f64; 3]) -> [f64; 3] {
+    w.map(|x| if x.abs() < ZERO_WEIGHT { 0.0 } else { x })
+}
+
 /// The rows b_N, b_S of a contact of a vertex (element `a`, weights) against a point of a
 /// segment (element `b`, weights) with normal `n` and tangent `t` (module doc), over the
-/// two elements' unknowns.
+/// two elements' unknowns; each point's weights [`without_zero_weights`] (a cover of
+/// weight zero has rows of exact zeros).
 fn contact_rows(
     disc: &Discretisation,
     (ea, wa): (usize, &[f64; 3]),
@@ -579,15 +621,15 @@ fn contact_rows(
     let mut ed = [NO_DOF; MAX_ELEMENT_DOFS];
     let (mut rn, mut rs) = ([0.0; MAX_ELEMENT_DOFS], [0.0; MAX_ELEMENT_DOFS]);
     for (side, (el, w, sign)) in [
-        (&disc.elements[ea], wa, 1.0),
-        (&disc.elements[eb], wb, -1.0),
+        (&disc.elements[ea], without_zero_weights(wa), 1.0),
+        (&disc.elements[eb], without_zero_weights(wb), -1.0),
     ]
     .into_iter()
     .enumerate()
     {
         basis.element_dofs_into(disc, el, &mut ed[..ne]);
-        basis.directional_row(el, w, n, &mut rn[..ne]);
-        basis.directional_row(el, w, t, &mut rs[..ne]);
+        basis.directional_row(el, &w, n, &mut rn[..ne]);
+        basis.directional_row(el, &w, t, &mut rs[..ne]);
         for i in 0..ne {
             let k = ne * side + i;
             dofs[k] = ed[i];

@@ -34,6 +34,18 @@
 //! in its top (the ancestors of two balanced subtrees, 850–980 columns), which the split
 //! would factorise three times. faer's parallel factorisation: 55 against 49 ms.
 //!
+//! Measured and rejected (2026-12-04): the preconditioner of an unsymmetric tangent
+//! factorised and solved in single precision (f32 values through faer's generic
+//! factorisation and the same supernodal solve; double precision kept for symmetric
+//! tangents, whose solve is direct). Flushing subnormals was necessary (x86 MXCSR FTZ/DAZ:
+//! the factor's decaying fill reaches 1e-38, and the factorisations took 3× longer than in
+//! double without it). With it, mean numeric factorisation 10.5 → 8.4 ms (20×20 wall), 33 →
+//! 19 ms (30×30), 58 → 43 ms (40×40), but GMRES needed 21% more iterations (40×40: 400 →
+//! 483 in 12 steps; the preconditioner's own error, cond · 6e-8, against the 1e-10 the
+//! Newton direction asks for), and per step: 20×20 0.71× and 0.92× in two alternated runs,
+//! 30×30 0.81×, 40×40 0.97× twice (within the machine's noise); the arch example worse
+//! (GMRES 65,897 → 91,093 iterations, 36 → 41 s).
+//!
 //! The symbolic analysis is done here in two parts: faer's AMD ordering P of the pattern
 //! (the ordering faer's own analysis would take), then faer's supernodal analysis of
 //! P A Pᵀ with no further ordering. Each numeric factorisation gathers A's values once,

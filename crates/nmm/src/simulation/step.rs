@@ -43,9 +43,10 @@ fn coupling_key(dofs: &[usize]) -> CouplingKey {
     key
 }
 
-/// The coupling a contact needs: [`Contact::coupled_dofs`].
+/// The coupling a contact reserves in the pattern when it needs one: without its small rows
+/// ([`Contact::preconditioner_dofs`]).
 fn contact_key(c: &Contact) -> CouplingKey {
-    coupling_key(&c.coupled_dofs())
+    coupling_key(&c.preconditioner_dofs())
 }
 
 /// Steps a reserved coupling that no contact uses is kept through a rebuild of the pattern.
@@ -82,6 +83,23 @@ fn stale_budget(current: usize) -> usize {
 /// side of a joint refined at the same mesh lines) does 186 symbolic analyses instead of 82
 /// (its factorisation stage 8.8–11.0 → 13.7 s, single runs), the arch example 157 instead
 /// of 125.
+///
+/// The pattern is the factorised **preconditioner's**: a contact's unknowns whose rows are
+/// below 10⁻⁴ of its largest (a point micrometres off a mesh line, weights 10⁻⁹…10⁻⁵) are
+/// left out where the rest of its coupling is reserved ([`contact_key`],
+/// [`Contact::preconditioner_dofs`]); the pattern is then not complete
+/// ([`TangentOperator::pattern_is_complete`]) and every solve is GMRES on the full tangent,
+/// preconditioned by that factor — the Newton direction as accurate as before. At a step whose
+/// tangent is symmetric when the step first asks for its pattern, or regularised (a static
+/// step: its solves are near mechanisms), the whole couplings are required (rebuilt if
+/// missing, the reduced ones reserved beside them: no further fill), so that its solves stay
+/// direct (with the reduced pattern a static collapsing arch's step failed and was cut:
+/// `tests/energy.rs`). Measured (2026-12-04, 12 steps): the settling walls' corner
+/// contacts no longer rebuild the pattern every step — 20×20 12 → 1 symbolic analyses, 40×40
+/// 12 → 1, factorisation stage 2.95 → 1.58 s, peak memory 132 → 95 MB, the same iteration
+/// counts; tunnel 186 → 163 analyses, arch and shaken slope within their round-off spread.
+/// A rebuild for a tangent that turned symmetric within a step (rejected): the shaken slope
+/// 193 → 348 symbolic analyses.
 ///
 /// Why (tunnel example, 767 steps, before): the pattern followed the current contacts
 /// exactly and was rebuilt in 724 steps; building it took 10.7 s, its symbolic analyses
@@ -132,6 +150,9 @@ pub(crate) struct TangentPattern {
     /// own unknowns), for the contact list of generation and step `bound`.
     contact_slots: Vec<u32>,
     bound: Option<(u64, usize)>,
+    /// Whether the bound contacts' slots hold every entry of their tangents (else some
+    /// contact's rows below [`Contact::preconditioner_dofs`]' floor have no slot).
+    complete: bool,
 }
 
 /// The reserved couplings of a tangent pattern as a checkpoint keeps them: the contact row
@@ -157,6 +178,7 @@ impl TangentPattern {
             key_slots: Vec::new(),
             contact_slots: Vec::new(),
             bound: None,
+            complete: true,
         }
     }
 
@@ -252,12 +274,22 @@ impl TangentPattern {
     }
 
     /// The pattern for the current `contacts`, with their tangent slots bound.
-    fn for_contacts(&mut self, contacts: &ContactSet) -> Arc<SparsePattern> {
+    /// `complete`: every contact's whole coupling (a symmetric tangent, whose solve with
+    /// the factor is then direct), else its coupling without its small rows where only that
+    /// one is reserved (see [`contact_key`]). Decided at the first request of a step (a
+    /// tangent that turns symmetric later in the step keeps the step's pattern: a rebuild
+    /// within the step cost more symbolic analyses than the direct solves saved).
+    fn for_contacts(&mut self, contacts: &ContactSet, complete: bool) -> Arc<SparsePattern> {
         if self.bound == Some((contacts.generation(), self.step)) {
             if let Some(p) = &self.combined {
                 return p.clone();
             }
         }
+        let exact: Vec<CouplingKey> = contacts
+            .contacts
+            .iter()
+            .map(|c| coupling_key(&c.coupled_dofs()))
+            .collect();
         let keys: Vec<CouplingKey> = contacts.contacts.iter().map(contact_key).collect();
         // every contact of a discretisation has the same number of unknowns
         let nc = contacts.contact_dofs();
@@ -274,26 +306,41 @@ impl TangentPattern {
         // each contact's coupling (one lookup), else the coupling of all its unknowns that
         // another contact between the same two elements reserved (it holds this one's); a
         // coupling not reserved rebuilds the pattern
-        let mut found: Vec<u32> = keys
-            .iter()
-            .zip(&contacts.contacts)
-            .map(|(k, c)| {
-                self.index
-                    .get(k)
-                    .or_else(|| self.index.get(&coupling_key(&c.dofs)))
-                    .copied()
-                    .unwrap_or(u32::MAX)
-            })
-            .collect();
-        if found.contains(&u32::MAX) {
-            self.rebuild(&keys);
-            found.clear();
-            found.extend(keys.iter().map(|k| self.index[k]));
+        // (and whether it was bound through a coupling that leaves some of its rows out)
+        let lookup = |index: &HashMap<CouplingKey, u32, _>,
+                      allow_partial: bool|
+         -> Vec<(u32, bool)> {
+            exact
+                .iter()
+                .zip(&keys)
+                .zip(&contacts.contacts)
+                .map(|((e, k), c)| {
+                    if let Some(&i) = index.get(e).or_else(|| index.get(&coupling_key(&c.dofs))) {
+                        (i, false)
+                    } else if let (true, Some(&i)) = (allow_partial, index.get(k)) {
+                        (i, k != e)
+                    } else {
+                        (u32::MAX, false)
+                    }
+                })
+                .collect()
+        };
+        let mut found = lookup(&self.index, !complete);
+        if found.iter().any(|f| f.0 == u32::MAX) {
+            // the couplings without their small rows; for a complete pattern also the whole
+            // ones (no further fill: the others are parts of them)
+            let both: Vec<CouplingKey> = match complete {
+                true => exact.iter().chain(&keys).cloned().collect(),
+                false => keys.clone(),
+            };
+            self.rebuild(&both);
+            found = lookup(&self.index, !complete);
         }
+        self.complete = !found.iter().any(|f| f.1);
         // bind: each contact's slots, from its coupling's, in the contact's own order
         self.contact_slots.clear();
         self.contact_slots.resize(keys.len() * n2, u32::MAX);
-        for (ci, (c, &ki)) in contacts.contacts.iter().zip(&found).enumerate() {
+        for (ci, (c, &(ki, _))) in contacts.contacts.iter().zip(&found).enumerate() {
             let ki = ki as usize;
             let key = &self.reserved[ki];
             self.last_used[ki] = self.step;
@@ -454,11 +501,13 @@ impl TangentOperator for StepSystem<'_> {
     }
 
     fn pattern(&mut self) -> Arc<SparsePattern> {
-        self.tangent.for_contacts(self.contacts)
+        // a regularised (static) step's solves are near mechanisms: whole couplings too
+        let complete = self.contacts.tangent_is_symmetric() || self.sigma > 0.0;
+        self.tangent.for_contacts(self.contacts, complete)
     }
 
     fn assemble(&mut self, values: &mut [f64], symmetric: bool) {
-        let _ = self.tangent.for_contacts(self.contacts);
+        let _ = self.pattern();
         for (k, &slot) in self.tangent.map.iter().enumerate() {
             values[slot as usize] += self.l[k] + self.sigma * self.m[k];
         }
@@ -479,6 +528,10 @@ impl TangentOperator for StepSystem<'_> {
 
     fn is_symmetric(&self) -> bool {
         self.contacts.tangent_is_symmetric()
+    }
+
+    fn pattern_is_complete(&self) -> bool {
+        self.tangent.complete
     }
 }
 

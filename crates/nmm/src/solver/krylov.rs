@@ -2,7 +2,8 @@
 //!
 //! Solves A x = b from x₀ = 0 for an operator A given by its action and a preconditioner
 //! M⁻¹ given by its action (in place): Arnoldi on A M⁻¹ with modified Gram–Schmidt, Givens
-//! rotations on the Hessenberg matrix, x = M⁻¹ V y. With right preconditioning the residual
+//! rotations on the Hessenberg matrix, x = M⁻¹ V y = Σ yⱼ zⱼ from the zⱼ = M⁻¹ vⱼ the iterations
+//! made (kept: one application of M⁻¹ a cycle fewer). With right preconditioning the residual
 //! it monitors is the true residual ‖b − A x‖ (up to round-off), so its tolerance means what
 //! Newton needs. Every operation is sequential in a fixed order: the result is the same bit
 //! for bit on every run and for every thread count. Storage (restart + 1 vectors) is
@@ -31,7 +32,8 @@ pub struct Gmres {
     sn: Vec<f64>,
     g: Vec<f64>,
     w: Vec<f64>,
-    z: Vec<f64>,
+    /// M⁻¹ vₖ of the cycle's iterations (grown as a cycle first needs them).
+    z: Vec<Vec<f64>>,
 }
 
 impl Gmres {
@@ -54,7 +56,7 @@ impl Gmres {
         self.sn = vec![0.0; m];
         self.g = vec![0.0; m + 1];
         self.w = vec![0.0; n];
-        self.z = vec![0.0; n];
+        self.z = Vec::new();
     }
 
     /// Solve A x = b to ‖b − A x‖ ≤ `rtol` ‖b‖ in at most `max_iter` iterations; `x` is
@@ -91,10 +93,13 @@ impl Gmres {
             self.g[0] = beta;
             let mut k = 0;
             while k < m && rep.iterations < max_iter {
-                // w = A M⁻¹ v_k
-                self.z.copy_from_slice(&self.v[k]);
-                precond(&mut self.z);
-                apply(&self.z, &mut self.w);
+                // w = A M⁻¹ v_k (M⁻¹ v_k kept for the update of x)
+                if self.z.len() == k {
+                    self.z.push(vec![0.0; n]);
+                }
+                self.z[k].copy_from_slice(&self.v[k]);
+                precond(&mut self.z[k]);
+                apply(&self.z[k], &mut self.w);
                 for i in 0..=k {
                     let hik = dot(&self.w, &self.v[i]);
                     self.h[i][k] = hik;
@@ -147,15 +152,11 @@ impl Gmres {
                     0.0
                 };
             }
-            self.z.iter_mut().for_each(|v| *v = 0.0);
+            // x += M⁻¹ V y = Σ yⱼ M⁻¹ vⱼ (no further application of M⁻¹)
             for (j, yj) in y.iter().enumerate() {
-                for (zi, vi) in self.z.iter_mut().zip(&self.v[j]) {
-                    *zi += yj * vi;
+                for (xi, zi) in x.iter_mut().zip(&self.z[j]) {
+                    *xi += yj * zi;
                 }
-            }
-            precond(&mut self.z);
-            for (xi, zi) in x.iter_mut().zip(&self.z) {
-                *xi += zi;
             }
             // true residual for the restart (and the report)
             apply(x, &mut self.w);

@@ -18,6 +18,11 @@
 //! 3. if that fails too (a factorisation that is not positive definite, or GMRES that does
 //!    not converge): sparse **LU** of the full unsymmetric J (faer, COLAMD), a direct solve.
 //!
+//! A tangent whose pattern leaves out some small entries
+//! ([`TangentOperator::pattern_is_complete`]: a contact's rows of weight below 10⁻⁴,
+//! contact/set.rs `PRECONDITIONER_WEIGHT`) is never solved directly: its Cholesky factor (or
+//! LU) preconditions GMRES on the full tangent.
+//!
 //! Why Cholesky and not LU: on the brick walls faer's LU was about 6× its Cholesky on the
 //! same matrix, and every tangent with one sliding contact is unsymmetric. Measured again
 //! where GMRES works hardest (2026-12-03, `examples/shaken_slope.toml` to 0.8 s of shaking,
@@ -50,6 +55,12 @@ pub trait TangentOperator {
     fn assemble(&mut self, values: &mut [f64], symmetric: bool);
     /// Whether A equals its symmetric part.
     fn is_symmetric(&self) -> bool;
+    /// Whether `pattern()` holds every entry of A (valid after `pattern()`). If not,
+    /// `assemble` leaves some small entries out (a preconditioner's pattern): no solve
+    /// with an assembled matrix is then direct, each preconditions GMRES on A.
+    fn pattern_is_complete(&self) -> bool {
+        true
+    }
 }
 
 /// The linear solver of the Newton driver and of [`crate::simulation::Simulation`]: solves
@@ -227,13 +238,31 @@ impl TangentSolver {
         rtol: f64,
         max_iter: usize,
     ) -> Result<bool, SolveError> {
+        self.gmres_with(op, rhs, x, rtol, max_iter, false)
+    }
+
+    /// GMRES on `op` preconditioned by the held Cholesky factor, or by the held LU (`lu`).
+    fn gmres_with(
+        &mut self,
+        op: &dyn TangentOperator,
+        rhs: &[f64],
+        x: &mut [f64],
+        rtol: f64,
+        max_iter: usize,
+        lu: bool,
+    ) -> Result<bool, SolveError> {
         let t = Instant::now();
-        let chol = &mut self.chol;
+        let (chol, lu_factor) = (&mut self.chol, &self.lu);
         let mut failed = None;
         let rep = self.gmres.solve(
             |v, y| op.apply(v, y),
             |v| {
-                if let Err(e) = chol.solve_in_place(v) {
+                let r = if lu {
+                    lu_factor.solve_in_place(v)
+                } else {
+                    chol.solve_in_place(v)
+                };
+                if let Err(e) = r {
                     failed = Some(e);
                 }
             },
@@ -276,7 +305,7 @@ impl TangentSolver {
         // 2. refresh
         match self.refresh_cholesky(op) {
             Ok(()) => {
-                if op.is_symmetric() {
+                if op.is_symmetric() && op.pattern_is_complete() {
                     let t = Instant::now();
                     x.copy_from_slice(rhs);
                     let r = self.chol.solve_in_place(x);
@@ -299,11 +328,20 @@ impl TangentSolver {
         self.stats.factorisation_time += t.elapsed();
         self.stats.lu_factorisations += 1;
         r?;
+        // the held Cholesky factor is kept as the next preconditioner
+        if !op.pattern_is_complete() {
+            // the LU of a matrix without some small entries of A: GMRES on A with it
+            return match self.gmres_with(op, rhs, x, rtol, FRESH_ITERATIONS, true)? {
+                true => Ok(()),
+                false => Err(SolveError::Other(
+                    "GMRES did not converge with the LU of the tangent".into(),
+                )),
+            };
+        }
         let t = Instant::now();
         x.copy_from_slice(rhs);
         let r = self.lu.solve_in_place(x);
         self.stats.solve_time += t.elapsed();
-        // the held Cholesky factor is kept as the next preconditioner
         r
     }
 }
@@ -319,6 +357,9 @@ mod tests {
     struct Tri {
         d: Vec<f64>,
         c: f64,
+        /// A symmetric coupling of unknowns 0 and n/2 that A has but the pattern has not
+        /// (a contact's small rows left out of the pattern).
+        hidden: f64,
         pattern: Arc<SparsePattern>,
     }
 
@@ -328,7 +369,12 @@ mod tests {
             let mut groups: Vec<Vec<usize>> = (0..n - 1).map(|i| vec![i, i + 1]).collect();
             groups.push(vec![0, n - 1]);
             let pattern = Arc::new(SparsePattern::from_groups(n, groups.iter().map(|g| &g[..])));
-            Tri { d, c, pattern }
+            Tri {
+                d,
+                c,
+                hidden: 0.0,
+                pattern,
+            }
         }
         fn dense(&self) -> Vec<Vec<f64>> {
             let n = self.d.len();
@@ -341,6 +387,8 @@ mod tests {
                 }
             }
             a[0][n - 1] += self.c;
+            a[0][n / 2] += self.hidden;
+            a[n / 2][0] += self.hidden;
             a
         }
     }
@@ -375,6 +423,9 @@ mod tests {
         }
         fn is_symmetric(&self) -> bool {
             self.c == 0.0
+        }
+        fn pattern_is_complete(&self) -> bool {
+            self.hidden == 0.0
         }
     }
 
@@ -445,6 +496,42 @@ mod tests {
         LinearSolver::invalidate(&mut s);
         s.solve(&mut op, &b, &mut x, 1e-12).unwrap();
         assert_eq!(s.stats().factorisations, 3);
+    }
+
+    #[test]
+    fn a_pattern_without_small_entries_preconditions_gmres_instead_of_solving_directly() {
+        let b: Vec<f64> = (0..30).map(|i| 1.0 + (i as f64 * 0.7).cos()).collect();
+        for c in [0.0, 0.7] {
+            let mut op = Tri::new(vec![3.0; 30], c);
+            op.hidden = 1e-3;
+            let mut s = TangentSolver::default();
+            let mut x = vec![0.0; 30];
+            s.solve(&mut op, &b, &mut x, 1e-12).unwrap();
+            // the factor lacks the hidden coupling: a direct solve would be off by ~1e-3
+            assert!(
+                residual(&op, &x, &b) < 1e-10,
+                "c {c}: {}",
+                residual(&op, &x, &b)
+            );
+            let st = s.stats();
+            assert_eq!(
+                (st.factorisations, st.lu_factorisations),
+                (1, 0),
+                "c {c}: {st:?}"
+            );
+            assert!(st.gmres_iterations >= 1, "c {c}: {st:?}");
+        }
+        // the LU fallback (an indefinite symmetric part) then preconditions GMRES too
+        let mut d = vec![1.0; 12];
+        d[0] = -2.0;
+        let mut op = Tri::new(d, 0.5);
+        op.hidden = 1e-3;
+        let b: Vec<f64> = (0..12).map(|i| i as f64 - 3.0).collect();
+        let mut s = TangentSolver::default();
+        let mut x = vec![0.0; 12];
+        s.solve(&mut op, &b, &mut x, 1e-12).unwrap();
+        assert!(residual(&op, &x, &b) < 1e-9, "{}", residual(&op, &x, &b));
+        assert_eq!(s.stats().lu_factorisations, 1, "{:?}", s.stats());
     }
 
     #[test]

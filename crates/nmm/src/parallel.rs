@@ -84,6 +84,13 @@ impl Threads {
         }
     }
 
+    /// Whether [`Threads::map`] and the loops over `n` items run on more than one thread
+    /// (else a caller may fuse its local work with its scatter: the same operations in the
+    /// same order).
+    pub fn splits(&self, n: usize) -> bool {
+        self.pool.is_some() && n >= MIN_PARALLEL
+    }
+
     /// `(0..n).map(f)` collected in order, computed on the run's threads.
     pub fn map<T: Send>(&self, n: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
         match &self.pool {

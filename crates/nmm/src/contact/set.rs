@@ -1207,6 +1207,22 @@ impl ContactSet {
     /// y += K_c v with the tangent of the chosen branches (matrix-free).
     pub fn apply_tangent(&self, v: &[f64], y: &mut [f64]) {
         let cs = &self.contacts;
+        if !self.threads.splits(cs.len()) {
+            // on one thread: each contact's rates and scatter in one pass (the same
+            // operations in the same order as below; half the reads of the contacts).
+            // Measured (2026-12-04, 40×40 wall, 12 steps, one thread): solve stage (GMRES,
+            // of which this product is a third) 2.98/3.40 → 2.58/2.62 s, byte-identical
+            // histories.
+            for c in cs {
+                let [a, b, cc, d] = c.coef;
+                if a == 0.0 && b == 0.0 && cc == 0.0 && d == 0.0 {
+                    continue;
+                }
+                let (gn, gs) = c.rates(v);
+                c.scatter(a * gn + b * gs, cc * gn + d * gs, y);
+            }
+            return;
+        }
         let forces = self.threads.map(cs.len(), |i| {
             let c = &cs[i];
             let [a, b, cc, d] = c.coef;

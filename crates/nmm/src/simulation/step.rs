@@ -533,6 +533,10 @@ impl TangentOperator for StepSystem<'_> {
     fn pattern_is_complete(&self) -> bool {
         self.tangent.complete
     }
+
+    fn threads(&self) -> crate::parallel::Threads {
+        self.threads.clone()
+    }
 }
 
 impl PiecewiseSystem for StepSystem<'_> {

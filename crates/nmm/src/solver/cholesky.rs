@@ -22,6 +22,19 @@
 //! 0.2) and wider: 93 and 83 supernodes with 32,800 and 40,500 values instead of 25,800 on
 //! the arch, the same run time).
 //!
+//! **Two threads** split the triangular solves of a large factor (`MIN_SPLIT_VALUES`): the
+//! elimination tree of supernodes is cut into two parts of whole subtrees with balanced
+//! values and the rest, the top (`split_tree`; a 40×40 wall's factor: 431,000 and 397,000
+//! values, top 115,000). The parts' forward steps are independent (a supernode's pattern
+//! holds only its ancestors): each runs on its own copy of x and sums its contributions to
+//! the top's rows apart; then the top forward and backward; then the parts' backward steps,
+//! each on its own copy (`solve_split`). One thread does the same operations in the same
+//! order, so the result does not depend on the thread count (histories byte-identical at 1
+//! and 2 threads: 20×20 and 40×40 walls, the arch). Measured (2026-12-04, 40×40 wall, 12
+//! steps, two alternated runs, with the one-pass contact product of the same commit): solve
+//! stage 2.58/2.62 s on one thread, 2.34/2.37 s on two (against 2.98/3.40 and 2.66/2.86 for
+//! the build before); the numeric factorisation stays sequential (below).
+//!
 //! Measured and rejected (2026-12-04, 40×40 wall, 19,200 unknowns): one level of nested
 //! dissection so that two threads factorise and solve the two halves (each half with the
 //! separator appended and ordered last, the separator's Schur complement T₀T₀ᵀ + T₁T₁ᵀ − Aₛₛ
@@ -100,6 +113,10 @@ pub struct Cholesky {
     permuted: Vec<f64>,
     /// The below-diagonal part of one supernode times a vector (the triangular solves').
     below: Vec<f64>,
+    /// The factor's elimination tree split in two independent parts and the top
+    /// ([`split_tree`]), and the parts' workspaces.
+    split: Option<Split>,
+    part_work: [PartWork; 2],
     /// faer's workspaces with the (size, alignment) they were made for.
     factor_work: Option<(MemBuffer, (usize, usize))>,
     solve_work: Option<(MemBuffer, (usize, usize))>,
@@ -310,6 +327,19 @@ impl Cholesky {
             SymbolicCholeskyRaw::Simplicial(_) => 0,
         };
         try_zeroed(&mut self.below, widest_below)?;
+        self.split = match s.raw() {
+            SymbolicCholeskyRaw::Supernodal(sn) if s.len_val() >= MIN_SPLIT_VALUES => {
+                split_tree(sn)
+            }
+            _ => None,
+        };
+        if self.split.is_some() {
+            for w in &mut self.part_work {
+                try_zeroed(&mut w.x, n)?;
+                try_zeroed(&mut w.to_top, n)?;
+                try_zeroed(&mut w.below, widest_below)?;
+            }
+        }
         self.lower_col_ptr = lower_ptr;
         self.lower_row_idx = lower_rows;
         try_zeroed(&mut self.values, s.len_val())?;
@@ -371,6 +401,16 @@ impl Cholesky {
 
     /// Solve A x = b in place with the held factorisation.
     pub fn solve_in_place(&mut self, b: &mut [f64]) -> Result<(), SolveError> {
+        self.solve_in_place_on(b, &crate::parallel::Threads::default())
+    }
+
+    /// [`Cholesky::solve_in_place`], the two parts of a split factor ([`split_tree`]) on two
+    /// of `threads` when it has more than one (the same result on any number).
+    pub fn solve_in_place_on(
+        &mut self,
+        b: &mut [f64],
+        threads: &crate::parallel::Threads,
+    ) -> Result<(), SolveError> {
         if !self.valid {
             return Err(SolveError::Other("solve before factorize".into()));
         }
@@ -380,9 +420,18 @@ impl Cholesky {
             self.permuted[i] = v;
         }
         match s.raw() {
-            SymbolicCholeskyRaw::Supernodal(sn) => {
-                supernodal_solve(sn, &self.values, &mut self.permuted, &mut self.below)
-            }
+            SymbolicCholeskyRaw::Supernodal(sn) => match &self.split {
+                Some(split) => solve_split(
+                    sn,
+                    &self.values,
+                    split,
+                    &mut self.permuted,
+                    &mut self.below,
+                    &mut self.part_work,
+                    threads,
+                ),
+                None => supernodal_solve(sn, &self.values, &mut self.permuted, &mut self.below),
+            },
             SymbolicCholeskyRaw::Simplicial(_) => {
                 let l = LltRef::<'_, usize, f64>::new(s, &self.values);
                 let work = &mut self.solve_work.as_mut().expect("workspace").0;
@@ -417,108 +466,317 @@ const WIDE_SUPERNODE: usize = 16;
 /// faer's solve calls a dense kernel per supernode and pass, whose dispatch dominated on the
 /// block models' narrow supernodes (the arch example: 116 supernodes of 1,000 unknowns,
 /// 26,000 values; 60 µs a solve, 60% of a GMRES iteration).
-fn supernodal_solve(
-    sn: &faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky<usize>,
-    values: &[f64],
-    x: &mut [f64],
-    below: &mut [f64],
-) {
+/// Supernode `k` of the factor: first column, width, pattern (rows below), rows, values.
+type Block<'a> = (usize, usize, &'a [usize], usize, &'a [f64]);
+
+fn block<'a>(sn: &'a SupernodalSymbolic, values: &'a [f64], k: usize) -> Block<'a> {
     let (begin, end, val_ptr) = (
         sn.supernode_begin(),
         sn.supernode_end(),
         sn.col_ptr_for_val(),
     );
-    // supernode k: its first column, width, pattern, rows and column-major block
-    let block = |k: usize| {
-        let (b, w) = (begin[k], end[k] - begin[k]);
-        let pattern = sn.supernode(k).pattern();
-        (
-            b,
-            w,
-            pattern,
-            w + pattern.len(),
-            &values[val_ptr[k]..val_ptr[k + 1]],
-        )
-    };
-    // forward: L y = b
-    for k in 0..sn.n_supernodes() {
-        let (b, w, pattern, rows, l) = block(k);
-        if w >= WIDE_SUPERNODE {
-            let (ltop, lbot) = MatRef::from_column_major_slice(l, rows, w).split_at_row(w);
-            let mut top = MatMut::from_column_major_slice_mut(&mut x[b..b + w], w, 1);
-            triangular_solve::solve_lower_triangular_in_place(ltop, top.rb_mut(), Par::Seq);
-            let t = &mut below[..pattern.len()];
-            matmul::matmul(
-                MatMut::from_column_major_slice_mut(t, pattern.len(), 1),
-                Accum::Replace,
-                lbot,
-                top.rb(),
-                1.0,
-                Par::Seq,
-            );
-            for (&r, &tv) in pattern.iter().zip(t.iter()) {
-                x[r] -= tv;
-            }
-            continue;
-        }
-        let top = &mut x[b..b + w];
-        for c in 0..w {
-            let col = &l[c * rows..c * rows + w];
-            let xc = top[c] / col[c];
-            top[c] = xc;
-            for (t, &v) in top[c + 1..].iter_mut().zip(&col[c + 1..]) {
-                *t -= v * xc;
-            }
-        }
+    let (b, w) = (begin[k], end[k] - begin[k]);
+    let pattern = sn.supernode(k).pattern();
+    (
+        b,
+        w,
+        pattern,
+        w + pattern.len(),
+        &values[val_ptr[k]..val_ptr[k + 1]],
+    )
+}
+
+type SupernodalSymbolic =
+    faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky<usize>;
+
+/// The forward step of supernode `k` (L y = b): its diagonal block solved in `x`, then the
+/// products for the rows of its pattern (`below`), each handed to `sub(row, value)`.
+#[inline(always)]
+fn forward_step(
+    (b, w, pattern, rows, l): Block,
+    x: &mut [f64],
+    below: &mut [f64],
+    mut sub: impl FnMut(&mut [f64], usize, f64),
+) {
+    if w >= WIDE_SUPERNODE {
+        let (ltop, lbot) = MatRef::from_column_major_slice(l, rows, w).split_at_row(w);
+        let mut top = MatMut::from_column_major_slice_mut(&mut x[b..b + w], w, 1);
+        triangular_solve::solve_lower_triangular_in_place(ltop, top.rb_mut(), Par::Seq);
         let t = &mut below[..pattern.len()];
-        t.iter_mut().for_each(|v| *v = 0.0);
-        for (c, &xc) in top.iter().enumerate() {
-            for (tv, &v) in t.iter_mut().zip(&l[c * rows + w..(c + 1) * rows]) {
-                *tv += v * xc;
-            }
-        }
+        matmul::matmul(
+            MatMut::from_column_major_slice_mut(t, pattern.len(), 1),
+            Accum::Replace,
+            lbot,
+            top.rb(),
+            1.0,
+            Par::Seq,
+        );
         for (&r, &tv) in pattern.iter().zip(t.iter()) {
-            x[r] -= tv;
+            sub(x, r, tv);
+        }
+        return;
+    }
+    let top = &mut x[b..b + w];
+    for c in 0..w {
+        let col = &l[c * rows..c * rows + w];
+        let xc = top[c] / col[c];
+        top[c] = xc;
+        for (t, &v) in top[c + 1..].iter_mut().zip(&col[c + 1..]) {
+            *t -= v * xc;
         }
     }
-    // backward: Lᵀ x = y
+    let t = &mut below[..pattern.len()];
+    t.iter_mut().for_each(|v| *v = 0.0);
+    for (c, &xc) in top.iter().enumerate() {
+        for (tv, &v) in t.iter_mut().zip(&l[c * rows + w..(c + 1) * rows]) {
+            *tv += v * xc;
+        }
+    }
+    for (&r, &tv) in pattern.iter().zip(t.iter()) {
+        sub(x, r, tv);
+    }
+}
+
+/// The backward step of supernode `k` (Lᵀ x = y): its rows of `x` from the rows of its
+/// pattern (read) and its diagonal block.
+#[inline(always)]
+fn backward_step((b, w, pattern, rows, l): Block, x: &mut [f64], below: &mut [f64]) {
+    let t = &mut below[..pattern.len()];
+    for (tv, &r) in t.iter_mut().zip(pattern) {
+        *tv = x[r];
+    }
+    if w >= WIDE_SUPERNODE {
+        let (ltop, lbot) = MatRef::from_column_major_slice(l, rows, w).split_at_row(w);
+        let mut top = MatMut::from_column_major_slice_mut(&mut x[b..b + w], w, 1);
+        matmul::matmul(
+            top.rb_mut(),
+            Accum::Add,
+            lbot.transpose(),
+            MatRef::from_column_major_slice(&t[..], pattern.len(), 1),
+            -1.0,
+            Par::Seq,
+        );
+        triangular_solve::solve_upper_triangular_in_place(ltop.transpose(), top, Par::Seq);
+        return;
+    }
+    let top = &mut x[b..b + w];
+    for (c, xc) in top.iter_mut().enumerate() {
+        *xc -= dot(&l[c * rows + w..(c + 1) * rows], t);
+    }
+    for c in (0..w).rev() {
+        let col = &l[c * rows..c * rows + w];
+        let s: f64 = col[c + 1..]
+            .iter()
+            .zip(&top[c + 1..])
+            .map(|(v, xv)| v * xv)
+            .sum();
+        top[c] = (top[c] - s) / col[c];
+    }
+}
+
+/// L Lᵀ x = b in place (`x`: b on entry, in the factor's order) with faer's supernodal
+/// factor, sequentially (see [`solve_split`] for two independent parts).
+fn supernodal_solve(sn: &SupernodalSymbolic, values: &[f64], x: &mut [f64], below: &mut [f64]) {
+    for k in 0..sn.n_supernodes() {
+        forward_step(block(sn, values, k), x, below, |x, r, t| x[r] -= t);
+    }
     for k in (0..sn.n_supernodes()).rev() {
-        let (b, w, pattern, rows, l) = block(k);
-        let t = &mut below[..pattern.len()];
-        for (tv, &r) in t.iter_mut().zip(pattern) {
-            *tv = x[r];
+        backward_step(block(sn, values, k), x, below);
+    }
+}
+
+/// Two disjoint sets of whole subtrees of the factor's elimination tree (of supernodes) and
+/// the rest, "the top": the parts' triangular solves are independent of each other (a
+/// supernode's pattern holds only its ancestors), so two threads can do them at once.
+#[derive(Debug, Clone, Default)]
+struct Split {
+    /// Each part's supernodes, in increasing order (descendants first).
+    parts: [Vec<usize>; 2],
+    /// The others, in increasing order.
+    top: Vec<usize>,
+    /// Each column's owner: 0 or 1 (a part), 2 (the top).
+    owner: Vec<u8>,
+}
+
+/// Smallest factor (stored values) whose solves are split ([`split_tree`]): below it the
+/// copies of x and the join cost about what the second thread saves (a 1,000-unknown arch's
+/// factor holds 26,000 values, a 40×40 wall's 940,000).
+const MIN_SPLIT_VALUES: usize = 1 << 17;
+
+/// Largest share of the factor's values the top may hold for a split to be worth it.
+const SPLIT_TOP_SHARE: f64 = 0.4;
+
+/// The split of the elimination tree (see [`Split`]) with the parts' values balanced within
+/// about 10%: from the roots, the heaviest subtree is moved to the top (its children become
+/// candidates) until the candidates share out evenly (largest first, to the lighter part).
+/// `None` if the top would hold more than [`SPLIT_TOP_SHARE`] of the values (or the tree is
+/// a chain). Depends only on the symbolic analysis.
+fn split_tree(sn: &SupernodalSymbolic) -> Option<Split> {
+    let ns = sn.n_supernodes();
+    let (begin, end, val_ptr) = (
+        sn.supernode_begin(),
+        sn.supernode_end(),
+        sn.col_ptr_for_val(),
+    );
+    let n = end.last().copied().unwrap_or(0);
+    let mut sn_of = vec![0usize; n];
+    for k in 0..ns {
+        sn_of[begin[k]..end[k]].iter_mut().for_each(|s| *s = k);
+    }
+    let parent: Vec<Option<usize>> = (0..ns)
+        .map(|k| sn.supernode(k).pattern().first().map(|&r| sn_of[r]))
+        .collect();
+    let mut children = vec![Vec::new(); ns];
+    let mut work: Vec<f64> = (0..ns)
+        .map(|k| (val_ptr[k + 1] - val_ptr[k]) as f64)
+        .collect();
+    let total: f64 = work.iter().sum();
+    for k in 0..ns {
+        if let Some(p) = parent[k] {
+            // a parent comes after its children: their subtree work is complete here
+            children[p].push(k);
+            work[p] += work[k];
         }
-        if w >= WIDE_SUPERNODE {
-            let (ltop, lbot) = MatRef::from_column_major_slice(l, rows, w).split_at_row(w);
-            let mut top = MatMut::from_column_major_slice_mut(&mut x[b..b + w], w, 1);
-            matmul::matmul(
-                top.rb_mut(),
-                Accum::Add,
-                lbot.transpose(),
-                MatRef::from_column_major_slice(&t[..], pattern.len(), 1),
-                -1.0,
-                Par::Seq,
-            );
-            triangular_solve::solve_upper_triangular_in_place(ltop.transpose(), top, Par::Seq);
-            continue;
+    }
+    let mut candidates: Vec<usize> = (0..ns).filter(|&k| parent[k].is_none()).collect();
+    let mut top: Vec<usize> = Vec::new();
+    let mut top_work = 0.0;
+    let assign = |cands: &[usize]| {
+        let mut sorted = cands.to_vec();
+        sorted.sort_by(|a, b| work[*b].total_cmp(&work[*a]).then(a.cmp(b)));
+        let mut bins = [(0.0, Vec::new()), (0.0, Vec::new())];
+        for k in sorted {
+            let i = usize::from(bins[1].0 < bins[0].0);
+            bins[i].0 += work[k];
+            bins[i].1.push(k);
         }
-        let top = &mut x[b..b + w];
-        for (c, xc) in top.iter_mut().enumerate() {
-            *xc -= dot(&l[c * rows + w..(c + 1) * rows], t);
+        bins
+    };
+    loop {
+        let bins = assign(&candidates);
+        let (a, b) = (bins[0].0, bins[1].0);
+        if a.max(b) <= 1.1 * 0.5 * (a + b) && !bins[0].1.is_empty() && !bins[1].1.is_empty() {
+            if top_work > SPLIT_TOP_SHARE * total {
+                return None;
+            }
+            let mut owner = vec![2u8; n];
+            let mut parts = [Vec::new(), Vec::new()];
+            for (p, (_, roots)) in bins.iter().enumerate() {
+                let mut stack = roots.clone();
+                while let Some(k) = stack.pop() {
+                    parts[p].push(k);
+                    owner[begin[k]..end[k]]
+                        .iter_mut()
+                        .for_each(|o| *o = p as u8);
+                    stack.extend(&children[k]);
+                }
+                parts[p].sort_unstable();
+            }
+            top.sort_unstable();
+            return Some(Split { parts, top, owner });
         }
-        for c in (0..w).rev() {
-            let col = &l[c * rows..c * rows + w];
-            let s: f64 = col[c + 1..]
-                .iter()
-                .zip(&top[c + 1..])
-                .map(|(v, xv)| v * xv)
-                .sum();
-            top[c] = (top[c] - s) / col[c];
+        // the heaviest candidate goes to the top
+        let (i, &k) = candidates
+            .iter()
+            .enumerate()
+            .max_by(|x, y| work[*x.1].total_cmp(&work[*y.1]).then(y.1.cmp(x.1)))?;
+        candidates.swap_remove(i);
+        top.push(k);
+        top_work += (val_ptr[k + 1] - val_ptr[k]) as f64;
+        if top_work > SPLIT_TOP_SHARE * total || (candidates.is_empty() && children[k].is_empty()) {
+            return None;
+        }
+        candidates.extend(&children[k]);
+    }
+}
+
+/// Per-part workspaces of [`solve_split`]: a copy of x, the contributions to the top's
+/// rows, and the products below a supernode.
+#[derive(Debug, Default)]
+struct PartWork {
+    x: Vec<f64>,
+    to_top: Vec<f64>,
+    below: Vec<f64>,
+}
+
+/// [`supernodal_solve`] over a [`Split`]: the two parts' forward steps (each on its own copy
+/// of x, its contributions to the top's rows summed apart), the top's rows then less the
+/// part 0's and the part 1's sums, the top forward and backward, the parts' backward steps
+/// (each on its own copy). The same operations in the same order on one thread and on two:
+/// the result does not depend on the thread count.
+fn solve_split(
+    sn: &SupernodalSymbolic,
+    values: &[f64],
+    split: &Split,
+    x: &mut [f64],
+    below: &mut [f64],
+    work: &mut [PartWork; 2],
+    threads: &crate::parallel::Threads,
+) {
+    let owner = &split.owner;
+    let forward = |p: usize, w: &mut PartWork| {
+        w.x.copy_from_slice(x);
+        for &k in &split.top {
+            for r in sn.supernode_begin()[k]..sn.supernode_end()[k] {
+                w.to_top[r] = 0.0;
+            }
+        }
+        let PartWork {
+            x: px,
+            to_top,
+            below,
+        } = w;
+        for &k in &split.parts[p] {
+            forward_step(block(sn, values, k), px, below, |x, r, t| {
+                if owner[r] as usize == p {
+                    x[r] -= t;
+                } else {
+                    to_top[r] += t;
+                }
+            });
+        }
+    };
+    let [w0, w1] = work;
+    if threads.count() > 1 {
+        threads.install(|| rayon::join(|| forward(0, w0), || forward(1, w1)));
+    } else {
+        forward(0, w0);
+        forward(1, w1);
+    }
+    for (r, xr) in x.iter_mut().enumerate() {
+        match owner[r] {
+            0 => *xr = w0.x[r],
+            1 => *xr = w1.x[r],
+            _ => *xr = *xr - w0.to_top[r] - w1.to_top[r],
+        }
+    }
+    for &k in &split.top {
+        forward_step(block(sn, values, k), x, below, |x, r, t| x[r] -= t);
+    }
+    for &k in split.top.iter().rev() {
+        backward_step(block(sn, values, k), x, below);
+    }
+    let backward = |p: usize, w: &mut PartWork| {
+        w.x.copy_from_slice(x);
+        for &k in split.parts[p].iter().rev() {
+            backward_step(block(sn, values, k), &mut w.x, &mut w.below);
+        }
+    };
+    if threads.count() > 1 {
+        threads.install(|| rayon::join(|| backward(0, w0), || backward(1, w1)));
+    } else {
+        backward(0, w0);
+        backward(1, w1);
+    }
+    for (r, xr) in x.iter_mut().enumerate() {
+        match owner[r] {
+            0 => *xr = w0.x[r],
+            1 => *xr = w1.x[r],
+            _ => {}
         }
     }
 }
 
-/// max |A x − b| for x solved by the held factorisation of `a` (the tests' check).
 #[cfg(test)]
 fn solve_residual(c: &mut Cholesky, a: &SparseMatrix, b: &[f64]) -> f64 {
     let mut x = b.to_vec();
@@ -639,6 +897,65 @@ mod solve_tests {
 
     /// The plain-loop supernodal solve and faer's dense kernels (wide supernodes) give the
     /// solution of A x = b: narrow supernodes (2 unknowns a block) and wide ones (24).
+    /// A grid's factor splits into two parts of balanced values with a small top, and the
+    /// split solve gives the sequential one's solution, bit for bit on one thread and two.
+    #[test]
+    fn the_split_solve_is_the_sequential_one_on_one_thread_and_two() {
+        let a = block_grid(90, 60, 2);
+        let n = a.n();
+        let mut c = Cholesky::default();
+        c.factorize(&a).unwrap();
+        assert!(c.factor_len() >= MIN_SPLIT_VALUES, "{}", c.factor_len());
+        let SymbolicCholeskyRaw::Supernodal(sn) = c.symbolic.as_ref().unwrap().raw() else {
+            panic!("supernodal")
+        };
+        let split = c.split.clone().expect("a grid's tree splits");
+        let vals = |ks: &[usize]| -> usize {
+            ks.iter()
+                .map(|&k| sn.col_ptr_for_val()[k + 1] - sn.col_ptr_for_val()[k])
+                .sum()
+        };
+        let (p0, p1, top) = (
+            vals(&split.parts[0]),
+            vals(&split.parts[1]),
+            vals(&split.top),
+        );
+        eprintln!("split: parts {p0} and {p1} values, top {top}");
+        assert_eq!(p0 + p1 + top, c.factor_len());
+        assert!(
+            p0.max(p1) as f64 <= 1.1 * 0.5 * (p0 + p1) as f64,
+            "{p0} {p1}"
+        );
+        assert!(
+            top as f64 <= SPLIT_TOP_SHARE * c.factor_len() as f64,
+            "{top}"
+        );
+        let b: Vec<f64> = (0..n).map(|i| ((i * 37 % 11) as f64 - 5.0) / 3.0).collect();
+        let mut one = b.clone();
+        c.solve_in_place(&mut one).unwrap();
+        let mut two = b.clone();
+        let threads = crate::parallel::Threads::new(2).unwrap();
+        c.solve_in_place_on(&mut two, &threads).unwrap();
+        assert_eq!(one, two);
+        let mut seq: Vec<f64> = vec![0.0; n];
+        for (&i, &v) in c.inv.iter().zip(&b) {
+            seq[i] = v;
+        }
+        let mut below = vec![0.0; n];
+        let SymbolicCholeskyRaw::Supernodal(sn) = c.symbolic.as_ref().unwrap().raw() else {
+            panic!("supernodal")
+        };
+        supernodal_solve(sn, &c.values, &mut seq, &mut below);
+        for (&i, &v) in c.inv.iter().zip(&one) {
+            assert!(
+                (seq[i] - v).abs() <= 1e-12 * v.abs().max(1.0),
+                "{} {v}",
+                seq[i]
+            );
+        }
+        assert!(solve_residual(&mut c, &a, &b) < 1e-11);
+    }
+
     #[test]
     fn supernodal_solve_solves_narrow_and_wide_supernodes() {
         for (nx, ny, dofs) in [(12, 9, 2), (6, 5, 24), (30, 1, 6)] {

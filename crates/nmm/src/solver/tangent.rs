@@ -55,6 +55,10 @@ pub trait TangentOperator {
     fn assemble(&mut self, values: &mut [f64], symmetric: bool);
     /// Whether A equals its symmetric part.
     fn is_symmetric(&self) -> bool;
+    /// The threads the solves may use (default: the calling thread only).
+    fn threads(&self) -> crate::parallel::Threads {
+        crate::parallel::Threads::default()
+    }
     /// Whether `pattern()` holds every entry of A (valid after `pattern()`). If not,
     /// `assemble` leaves some small entries out (a preconditioner's pattern): no solve
     /// with an assembled matrix is then direct, each preconditions GMRES on A.
@@ -253,6 +257,7 @@ impl TangentSolver {
     ) -> Result<bool, SolveError> {
         let t = Instant::now();
         let (chol, lu_factor) = (&mut self.chol, &self.lu);
+        let threads = op.threads();
         let mut failed = None;
         let rep = self.gmres.solve(
             |v, y| op.apply(v, y),
@@ -260,7 +265,7 @@ impl TangentSolver {
                 let r = if lu {
                     lu_factor.solve_in_place(v)
                 } else {
-                    chol.solve_in_place(v)
+                    chol.solve_in_place_on(v, &threads)
                 };
                 if let Err(e) = r {
                     failed = Some(e);
@@ -308,7 +313,7 @@ impl TangentSolver {
                 if op.is_symmetric() && op.pattern_is_complete() {
                     let t = Instant::now();
                     x.copy_from_slice(rhs);
-                    let r = self.chol.solve_in_place(x);
+                    let r = self.chol.solve_in_place_on(x, &op.threads());
                     self.stats.solve_time += t.elapsed();
                     return r;
                 }

@@ -690,6 +690,22 @@ fn split_tree(sn: &SupernodalSymbolic) -> Option<Split> {
     }
 }
 
+/// `f(0, w0)` and `f(1, w1)`: at once on two threads when `threads` has them, else one
+/// after the other.
+fn on_both(
+    threads: &crate::parallel::Threads,
+    f: impl Fn(usize, &mut PartWork) + Sync,
+    w0: &mut PartWork,
+    w1: &mut PartWork,
+) {
+    if threads.count() > 1 {
+        threads.install(|| rayon::join(|| f(0, w0), || f(1, w1)));
+    } else {
+        f(0, w0);
+        f(1, w1);
+    }
+}
+
 /// Per-part workspaces of [`solve_split`]: a copy of x, the contributions to the top's
 /// rows, and the products below a supernode.
 #[derive(Debug, Default)]
@@ -737,12 +753,7 @@ fn solve_split(
         }
     };
     let [w0, w1] = work;
-    if threads.count() > 1 {
-        threads.install(|| rayon::join(|| forward(0, w0), || forward(1, w1)));
-    } else {
-        forward(0, w0);
-        forward(1, w1);
-    }
+    on_both(threads, forward, w0, w1);
     for (r, xr) in x.iter_mut().enumerate() {
         match owner[r] {
             0 => *xr = w0.x[r],
@@ -762,12 +773,7 @@ fn solve_split(
             backward_step(block(sn, values, k), &mut w.x, &mut w.below);
         }
     };
-    if threads.count() > 1 {
-        threads.install(|| rayon::join(|| backward(0, w0), || backward(1, w1)));
-    } else {
-        backward(0, w0);
-        backward(1, w1);
-    }
+    on_both(threads, backward, w0, w1);
     for (r, xr) in x.iter_mut().enumerate() {
         match owner[r] {
             0 => *xr = w0.x[r],

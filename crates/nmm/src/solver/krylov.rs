@@ -6,8 +6,8 @@
 //! made (kept: one application of M⁻¹ a cycle fewer). With right preconditioning the residual
 //! it monitors is the true residual ‖b − A x‖ (up to round-off), so its tolerance means what
 //! Newton needs. Every operation is sequential in a fixed order: the result is the same bit
-//! for bit on every run and for every thread count. Storage (restart + 1 vectors) is
-//! allocated once and reused.
+//! for bit on every run and for every thread count. Storage (restart + 1 vectors, and the
+//! zⱼ as many as a cycle has needed so far) is allocated once and reused.
 
 use super::dot;
 

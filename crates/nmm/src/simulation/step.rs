@@ -363,7 +363,8 @@ impl TangentPattern {
 
 /// A contact's tangent slots (`out`, n² row-major over its unknowns `dofs`) from its
 /// coupling's (`slots`, n² row-major over the coupling's `key`). An unknown of the
-/// contact's that is not in the key (its rows are zeros: [`contact_key`]) keeps no slot.
+/// contact's that is not in the key (its rows are zeros, or below the pattern's floor:
+/// [`contact_key`], [`TangentPattern::complete`]) keeps no slot.
 #[inline(always)]
 fn bind(key: &[usize], dofs: &[usize], slots: &[u32], out: &mut [u32]) {
     let nc = dofs.len();

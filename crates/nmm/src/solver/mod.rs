@@ -19,6 +19,7 @@ mod krylov;
 mod linear;
 mod newton;
 mod sparse;
+mod supernodal;
 mod tangent;
 
 pub use cholesky::Cholesky;

@@ -225,7 +225,7 @@ impl TangentSolver {
         let m = self.matrix_for(op)?;
         op.assemble(&mut m.values, true);
         let m = self.matrix.as_ref().expect("matrix");
-        let r = self.chol.factorize(m);
+        let r = self.chol.factorize_on(m, &op.threads());
         let dt = t.elapsed();
         self.stats.factorisation_time += dt;
         self.stats.factorisations += 1;

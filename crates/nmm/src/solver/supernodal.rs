@@ -1,0 +1,374 @@
+//! The numeric supernodal Cholesky factorisation over faer's symbolic analysis, ours so that
+//! two threads can factorise the two independent parts of the elimination tree at once.
+//!
+//! Left-looking, as faer's own (`factorize_supernodal_numeric_llt`), on the same storage:
+//! supernode s is a dense column-major block of its w columns over its w diagonal rows and
+//! the rows of its pattern. For each s in order: its entries of P A Pᵀ (placed by a map the
+//! analysis made, [`FactorPlan::place`]); minus the update of every descendant d whose
+//! pattern meets s's columns (`L_d[rows ≥ s] · L_d[rows of s]ᵀ`, in increasing d, scattered
+//! through the local row numbers of s); then the panel's own Cholesky (the diagonal block
+//! factorised, the rows below divided by its transpose).
+//!
+//! A supernode's descendants lie in its own subtree, so the two parts of a split tree
+//! (cholesky.rs `split_tree`: whole subtrees) are factorised by two threads with nothing
+//! shared but the finished factor they read, and then the top, whose descendants are in
+//! both. Each supernode's operations and their order are the same whichever thread does
+//! them: the factor does not depend on the thread count, bit for bit.
+//!
+//! Kernels: supernodes narrower than `WIDE_SUPERNODE` columns (most of the block models':
+//! the arch's 116 supernodes of 1,000 unknowns average 9 columns) by plain loops over
+//! contiguous columns (an update column by column through one dense column, the panel
+//! left-looking by columns); wider ones by faer's dense kernels (the update's product into
+//! a dense block, then scattered; `cholesky_in_place` and a triangular solve for the
+//! panel).
+
+use super::cholesky::{on_both, PartWork, Split, SupernodalSymbolic, WIDE_SUPERNODE};
+use super::linear::SolveError;
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::{matmul, triangular_solve};
+use faer::reborrow::{Reborrow, ReborrowMut};
+use faer::{Accum, MatMut, MatRef, Par};
+
+/// What the numeric factorisation needs beyond faer's symbolic analysis (made once per
+/// analysis).
+#[derive(Debug, Default)]
+pub(super) struct FactorPlan {
+    /// For each slot of the lower triangle of P A Pᵀ (cholesky.rs `lower_*`), its position
+    /// in the factor's values.
+    pub place: Vec<usize>,
+    /// The supernodes that update supernode s: `updates[update_ptr[s]..update_ptr[s + 1]]`,
+    /// in increasing order.
+    update_ptr: Vec<usize>,
+    updates: Vec<u32>,
+    /// The largest dense update block (rows × columns) of a wide descendant, the widest
+    /// wide supernode and the longest pattern: the workspaces' sizes.
+    largest_block: usize,
+    widest: usize,
+    longest: usize,
+}
+
+/// One thread's workspace of the factorisation.
+#[derive(Default)]
+pub(super) struct FactorWork {
+    /// Local row numbers in the supernode being factorised, by global row.
+    local: Vec<usize>,
+    /// The local rows of one update.
+    rel: Vec<usize>,
+    /// One update's dense column or block.
+    block: Vec<f64>,
+    /// faer's workspace for a wide diagonal block.
+    stack: Option<MemBuffer>,
+    /// The first supernode whose panel was not positive definite.
+    failed: Option<usize>,
+}
+
+fn try_zeroed<T: Clone + Default>(v: &mut Vec<T>, n: usize) -> Result<(), SolveError> {
+    v.clear();
+    v.try_reserve(n).map_err(|_| SolveError::OutOfMemory)?;
+    v.resize(n, T::default());
+    Ok(())
+}
+
+impl FactorPlan {
+    /// The plan for `sn`, the supernodal analysis of the lower triangle (`lower_ptr`,
+    /// `lower_rows`: column pointers and rows) of P A Pᵀ.
+    pub fn new(
+        sn: &SupernodalSymbolic,
+        lower_ptr: &[usize],
+        lower_rows: &[usize],
+    ) -> Result<FactorPlan, SolveError> {
+        let ns = sn.n_supernodes();
+        let (begin, end, val_ptr) = (
+            sn.supernode_begin(),
+            sn.supernode_end(),
+            sn.col_ptr_for_val(),
+        );
+        let n = end.last().copied().unwrap_or(0);
+        let mut sn_of = Vec::new();
+        try_zeroed(&mut sn_of, n)?;
+        for k in 0..ns {
+            sn_of[begin[k]..end[k]].iter_mut().for_each(|s| *s = k);
+        }
+        // the entries' places: column j of supernode s, row i at its local row
+        let mut place = Vec::new();
+        try_zeroed(&mut place, lower_rows.len())?;
+        let mut local = Vec::new();
+        try_zeroed(&mut local, n)?;
+        let mut longest = 0;
+        for s in 0..ns {
+            let (b, e) = (begin[s], end[s]);
+            let w = e - b;
+            let pattern = sn.supernode(s).pattern();
+            longest = longest.max(pattern.len());
+            for (i, &r) in pattern.iter().enumerate() {
+                local[r] = w + i;
+            }
+            let rows = w + pattern.len();
+            for j in b..e {
+                for t in lower_ptr[j]..lower_ptr[j + 1] {
+                    let i = lower_rows[t];
+                    let li = if i < e { i - b } else { local[i] };
+                    place[t] = val_ptr[s] + (j - b) * rows + li;
+                }
+            }
+        }
+        // the updates: d updates every supernode its pattern meets
+        let mut count = vec![0usize; ns + 1];
+        let each = |f: &mut dyn FnMut(usize, usize)| {
+            for d in 0..ns {
+                let mut last = usize::MAX;
+                for &r in sn.supernode(d).pattern() {
+                    let s = sn_of[r];
+                    if s != last {
+                        f(d, s);
+                        last = s;
+                    }
+                }
+            }
+        };
+        each(&mut |_, s| count[s + 1] += 1);
+        for s in 0..ns {
+            count[s + 1] += count[s];
+        }
+        let mut updates = Vec::new();
+        try_zeroed(&mut updates, count[ns])?;
+        let mut next = count[..ns].to_vec();
+        let mut largest_block = 0;
+        each(&mut |d, s| {
+            updates[next[s]] = d as u32;
+            next[s] += 1;
+            if end[d] - begin[d] >= WIDE_SUPERNODE {
+                let pattern = sn.supernode(d).pattern();
+                let start = pattern.partition_point(|&r| r < begin[s]);
+                let mid = pattern[start..].partition_point(|&r| r < end[s]);
+                largest_block = largest_block.max((pattern.len() - start) * mid);
+            }
+        });
+        let widest = (0..ns)
+            .map(|k| end[k] - begin[k])
+            .filter(|&w| w >= WIDE_SUPERNODE)
+            .max()
+            .unwrap_or(0);
+        Ok(FactorPlan {
+            place,
+            update_ptr: count,
+            updates,
+            largest_block,
+            widest,
+            longest,
+        })
+    }
+
+    /// Size `w` for this plan.
+    pub fn prepare(&self, w: &mut FactorWork, n: usize) -> Result<(), SolveError> {
+        try_zeroed(&mut w.local, n)?;
+        try_zeroed(&mut w.rel, self.longest)?;
+        try_zeroed(&mut w.block, self.largest_block.max(self.longest))?;
+        let req = faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch::<f64>(
+            self.widest,
+            Par::Seq,
+            Default::default(),
+        );
+        let have = w.stack.as_ref().map_or(0, |b| b.len());
+        if have < req.size_bytes() || w.stack.is_none() {
+            w.stack = None;
+            w.stack = Some(
+                MemBuffer::try_new(req.and(StackReq::new::<u8>(64)))
+                    .map_err(|_| SolveError::OutOfMemory)?,
+            );
+        }
+        w.failed = None;
+        Ok(())
+    }
+}
+
+/// The factor's values, shared by the threads of one factorisation: each supernode's block
+/// is written by the one thread that factorises it, and read (by the factorisations of its
+/// ancestors) only after it is finished.
+struct Values(*mut f64, usize);
+// SAFETY: see the type's docs; the parts' threads write disjoint supernodes and read only
+// their own finished descendants (the top is factorised after both parts have joined).
+unsafe impl Sync for Values {}
+unsafe impl Send for Values {}
+
+impl Values {
+    /// Supernode blocks [a, b) of the values.
+    ///
+    /// SAFETY: no other thread writes [a, b) during the borrow.
+    unsafe fn get(&self, a: usize, b: usize) -> &[f64] {
+        debug_assert!(a <= b && b <= self.1);
+        std::slice::from_raw_parts(self.0.add(a), b - a)
+    }
+    /// SAFETY: no other reference to [a, b) exists during the borrow.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn get_mut(&self, a: usize, b: usize) -> &mut [f64] {
+        debug_assert!(a <= b && b <= self.1);
+        std::slice::from_raw_parts_mut(self.0.add(a), b - a)
+    }
+}
+
+/// Factorise into `values` (the A entries already placed, the rest zero): the supernodes of
+/// `split`'s parts on two of `threads` if it has two, then the top; without a split all in
+/// order on the calling thread. `Err(NotPositiveDefinite)` if a pivot is not positive.
+pub(super) fn factorize(
+    sn: &SupernodalSymbolic,
+    plan: &FactorPlan,
+    split: Option<&Split>,
+    values: &mut [f64],
+    work: &mut [PartWork; 2],
+    threads: &crate::parallel::Threads,
+) -> Result<(), SolveError> {
+    let shared = Values(values.as_mut_ptr(), values.len());
+    let run = |list: &mut dyn Iterator<Item = usize>, w: &mut FactorWork| {
+        for s in list {
+            // SAFETY: s is this thread's; its descendants are finished (see `Values`)
+            if !unsafe { factor_supernode(sn, plan, &shared, s, w) } {
+                w.failed = Some(s);
+                return;
+            }
+        }
+    };
+    match split {
+        Some(split) => {
+            let [w0, w1] = work;
+            on_both(
+                threads,
+                |p, w| run(&mut split.parts[p].iter().copied(), &mut w.factor),
+                w0,
+                w1,
+            );
+            if work.iter().any(|w| w.factor.failed.is_some()) {
+                return Err(SolveError::NotPositiveDefinite);
+            }
+            run(&mut split.top.iter().copied(), &mut work[0].factor);
+        }
+        None => run(&mut (0..sn.n_supernodes()), &mut work[0].factor),
+    }
+    match work[0].factor.failed {
+        Some(_) => Err(SolveError::NotPositiveDefinite),
+        None => Ok(()),
+    }
+}
+
+/// Factorise supernode `s` (see the module docs). Returns false if its panel is not
+/// positive definite.
+///
+/// SAFETY: the calling thread alone holds supernode s, and every descendant of s is
+/// finished.
+unsafe fn factor_supernode(
+    sn: &SupernodalSymbolic,
+    plan: &FactorPlan,
+    values: &Values,
+    s: usize,
+    w: &mut FactorWork,
+) -> bool {
+    let (begin, end, val_ptr) = (
+        sn.supernode_begin(),
+        sn.supernode_end(),
+        sn.col_ptr_for_val(),
+    );
+    let (sb, se) = (begin[s], end[s]);
+    let sw = se - sb;
+    let s_pattern = sn.supernode(s).pattern();
+    let srows = sw + s_pattern.len();
+    let ls = values.get_mut(val_ptr[s], val_ptr[s + 1]);
+    for (i, &r) in s_pattern.iter().enumerate() {
+        w.local[r] = sw + i;
+    }
+    for &d in &plan.updates[plan.update_ptr[s]..plan.update_ptr[s + 1]] {
+        let d = d as usize;
+        let dw = end[d] - begin[d];
+        let d_pattern = sn.supernode(d).pattern();
+        let drows = dw + d_pattern.len();
+        let ld = values.get(val_ptr[d], val_ptr[d + 1]);
+        let start = d_pattern.partition_point(|&r| r < sb);
+        let mid = d_pattern[start..].partition_point(|&r| r < se);
+        let below = d_pattern.len() - start;
+        let rel = &mut w.rel[..below];
+        for (x, &r) in rel.iter_mut().zip(&d_pattern[start..]) {
+            *x = if r < se { r - sb } else { w.local[r] };
+        }
+        let first = dw + start;
+        if dw >= WIDE_SUPERNODE {
+            // T = L_d[rows ≥ s] · L_d[rows of s]ᵀ (below × mid), then scattered
+            let ld = MatRef::from_column_major_slice(ld, drows, dw);
+            let lower = ld.subrows(first, below);
+            let upper = ld.subrows(first, mid);
+            let t = &mut w.block[..below * mid];
+            matmul::matmul(
+                MatMut::from_column_major_slice_mut(t, below, mid),
+                Accum::Replace,
+                lower,
+                upper.transpose(),
+                1.0,
+                Par::Seq,
+            );
+            for j in 0..mid {
+                let col = &mut ls[rel[j] * srows..(rel[j] + 1) * srows];
+                for i in j..below {
+                    col[rel[i]] -= t[j * below + i];
+                }
+            }
+        } else {
+            let t = &mut w.block[..below];
+            for j in 0..mid {
+                let t = &mut t[j..];
+                t.iter_mut().for_each(|v| *v = 0.0);
+                for k in 0..dw {
+                    let c = &ld[k * drows + first + j..k * drows + first + below];
+                    let a = c[0];
+                    for (tv, &v) in t.iter_mut().zip(c) {
+                        *tv += v * a;
+                    }
+                }
+                let col = &mut ls[rel[j] * srows..(rel[j] + 1) * srows];
+                for (&r, &tv) in rel[j..].iter().zip(t.iter()) {
+                    col[r] -= tv;
+                }
+            }
+        }
+    }
+    for &r in s_pattern {
+        w.local[r] = 0;
+    }
+    if sw >= WIDE_SUPERNODE {
+        let mut panel = MatMut::from_column_major_slice_mut(ls, srows, sw);
+        let (mut top, bot) = panel.rb_mut().split_at_row_mut(sw);
+        let stack = MemStack::new(w.stack.as_mut().expect("workspace"));
+        if faer::linalg::cholesky::llt::factor::cholesky_in_place(
+            top.rb_mut(),
+            Default::default(),
+            Par::Seq,
+            stack,
+            Default::default(),
+        )
+        .is_err()
+        {
+            return false;
+        }
+        triangular_solve::solve_lower_triangular_in_place(top.rb(), bot.transpose_mut(), Par::Seq);
+        return true;
+    }
+    // the panel left-looking by columns: column c less its products with the columns before
+    // it (from its diagonal row down), then divided by its pivot's square root
+    for c in 0..sw {
+        let (done, rest) = ls.split_at_mut(c * srows);
+        let col = &mut rest[c..srows];
+        for k in 0..c {
+            let ck = &done[k * srows + c..(k + 1) * srows];
+            let a = ck[0];
+            for (x, &v) in col.iter_mut().zip(ck) {
+                *x -= v * a;
+            }
+        }
+        let d = col[0];
+        if d.is_nan() || d <= 0.0 {
+            return false;
+        }
+        let d = d.sqrt();
+        col[0] = d;
+        let inv = 1.0 / d;
+        col[1..].iter_mut().for_each(|x| *x *= inv);
+    }
+    true
+}

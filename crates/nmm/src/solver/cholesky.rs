@@ -2,15 +2,15 @@
 //! factorisation and solves) that allocates nothing per factorisation.
 //!
 //! The **numeric factorisation** is ours (supernodal.rs): faer's left-looking supernodal
-//! algorithm on faer's storage, plain loops for narrow supernodes and faer's dense kernels
-//! for wide ones, so that two threads can factorise the two parts of a split elimination
-//! tree (below) at once. Measured (2026-12-04, tangents taken from runs at their 20th
-//! factorisation, medians of 30 after a warm-up, three alternated rounds): the arch's
-//! (1,000 unknowns, 24,900 values) 0.30–0.35 ms with faer's, 0.24–0.27 ms with ours; a
-//! 20×20 wall's (4,800 unknowns, 175,000 values) 2.9 ms both on one thread, 2.2–3.4 ms on
-//! two; a 40×40 wall's (19,200 unknowns, 943,000 values) 16–18 ms with faer's, 13–19 ms
-//! with ours on one thread, 8.7–12.2 ms on two. The factors agree to round-off (solutions
-//! within 1e-14) and ours is the same bit for bit on one thread and two.
+//! algorithm on faer's storage, every update by faer's dense product, so that two threads
+//! can factorise the two parts of a split elimination tree (below) at once. Measured
+//! (2026-12-04, tangents taken from runs at their 20th factorisation, faer's and ours
+//! interleaved in one process, minimum/median of 40, two runs): the arch's (1,000 unknowns,
+//! 24,900 values) 0.20/0.21 ms with faer's, 0.115/0.117 with ours; a 20×20 wall's (4,800
+//! unknowns, 175,000 values) 1.71/1.77 and 1.28/1.36 ms, 0.88/1.5 on two threads; a 40×40
+//! wall's (19,200 unknowns, 943,000 values) 10.0/11.1 and 8.9/9.7 ms, 6.2/8.5–10.6 on two
+//! threads (the machine's noise is in the medians). The factors agree to round-off and
+//! ours is the same bit for bit on one thread and two.
 //!
 //! Always **supernodal**: faer's automatic choice takes the simplicial factorisation for
 //! the block models' small and medium matrices, where the supernodal one was measured

@@ -15,12 +15,13 @@
 //! both. Each supernode's operations and their order are the same whichever thread does
 //! them: the factor does not depend on the thread count, bit for bit.
 //!
-//! Kernels: supernodes narrower than `WIDE_SUPERNODE` columns (most of the block models':
-//! the arch's 116 supernodes of 1,000 unknowns average 9 columns) by plain loops over
-//! contiguous columns (an update column by column through one dense column, the panel
-//! left-looking by columns); wider ones by faer's dense kernels (the update's product into
-//! a dense block, then scattered; `cholesky_in_place` and a triangular solve for the
-//! panel).
+//! Kernels: each update by faer's dense product into a dense block, then scattered
+//! (measured against plain loops column by column for descendants narrower than 16
+//! columns: the arch's tangent 0.25 → 0.20 ms, a 20×20 wall's 2.4 → 1.8 ms, a 40×40 wall's
+//! 15.7 → 11.2 ms, minima of 40 interleaved); the panel of a supernode narrower than
+//! `WIDE_SUPERNODE` columns by plain loops (left-looking by columns: the same time as
+//! faer's kernels within the machine's noise), a wider one by faer's `cholesky_in_place`
+//! and a triangular solve.
 
 use super::cholesky::{on_both, PartWork, Split, SupernodalSymbolic, WIDE_SUPERNODE};
 use super::linear::SolveError;
@@ -28,6 +29,11 @@ use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::{matmul, triangular_solve};
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, MatMut, MatRef, Par};
+
+/// Columns of a supernode updated by one dense product (bounds the workspace: a
+/// supernode's longest pattern times this; and leaves out most of the product above the
+/// diagonal).
+const UPDATE_COLUMNS: usize = 32;
 
 /// What the numeric factorisation needs beyond faer's symbolic analysis (made once per
 /// analysis).
@@ -40,9 +46,7 @@ pub(super) struct FactorPlan {
     /// in increasing order.
     update_ptr: Vec<usize>,
     updates: Vec<u32>,
-    /// The largest dense update block (rows × columns) of a wide descendant, the widest
-    /// wide supernode and the longest pattern: the workspaces' sizes.
-    largest_block: usize,
+    /// The widest supernode and the longest pattern: the workspaces' sizes.
     widest: usize,
     longest: usize,
 }
@@ -133,27 +137,15 @@ impl FactorPlan {
         let mut updates = Vec::new();
         try_zeroed(&mut updates, count[ns])?;
         let mut next = count[..ns].to_vec();
-        let mut largest_block = 0;
         each(&mut |d, s| {
             updates[next[s]] = d as u32;
             next[s] += 1;
-            if end[d] - begin[d] >= WIDE_SUPERNODE {
-                let pattern = sn.supernode(d).pattern();
-                let start = pattern.partition_point(|&r| r < begin[s]);
-                let mid = pattern[start..].partition_point(|&r| r < end[s]);
-                largest_block = largest_block.max((pattern.len() - start) * mid);
-            }
         });
-        let widest = (0..ns)
-            .map(|k| end[k] - begin[k])
-            .filter(|&w| w >= WIDE_SUPERNODE)
-            .max()
-            .unwrap_or(0);
+        let widest = (0..ns).map(|k| end[k] - begin[k]).max().unwrap_or(0);
         Ok(FactorPlan {
             place,
             update_ptr: count,
             updates,
-            largest_block,
             widest,
             longest,
         })
@@ -163,7 +155,7 @@ impl FactorPlan {
     pub fn prepare(&self, w: &mut FactorWork, n: usize) -> Result<(), SolveError> {
         try_zeroed(&mut w.local, n)?;
         try_zeroed(&mut w.rel, self.longest)?;
-        try_zeroed(&mut w.block, self.largest_block.max(self.longest))?;
+        try_zeroed(&mut w.block, self.longest * UPDATE_COLUMNS)?;
         let req = faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch::<f64>(
             self.widest,
             Par::Seq,
@@ -289,41 +281,25 @@ unsafe fn factor_supernode(
             *x = if r < se { r - sb } else { w.local[r] };
         }
         let first = dw + start;
-        if dw >= WIDE_SUPERNODE {
-            // T = L_d[rows ≥ s] · L_d[rows of s]ᵀ (below × mid), then scattered
-            let ld = MatRef::from_column_major_slice(ld, drows, dw);
-            let lower = ld.subrows(first, below);
-            let upper = ld.subrows(first, mid);
-            let t = &mut w.block[..below * mid];
+        // T = L_d[rows ≥ s] · L_d[rows of s]ᵀ, UPDATE_COLUMNS columns of s at a time
+        // from their diagonal row down, then scattered
+        let ld = MatRef::from_column_major_slice(ld, drows, dw);
+        for j0 in (0..mid).step_by(UPDATE_COLUMNS) {
+            let (cols, rows) = (UPDATE_COLUMNS.min(mid - j0), below - j0);
+            let t = &mut w.block[..rows * cols];
             matmul::matmul(
-                MatMut::from_column_major_slice_mut(t, below, mid),
+                MatMut::from_column_major_slice_mut(t, rows, cols),
                 Accum::Replace,
-                lower,
-                upper.transpose(),
+                ld.subrows(first + j0, rows),
+                ld.subrows(first + j0, cols).transpose(),
                 1.0,
                 Par::Seq,
             );
-            for j in 0..mid {
+            for jj in 0..cols {
+                let j = j0 + jj;
                 let col = &mut ls[rel[j] * srows..(rel[j] + 1) * srows];
                 for i in j..below {
-                    col[rel[i]] -= t[j * below + i];
-                }
-            }
-        } else {
-            let t = &mut w.block[..below];
-            for j in 0..mid {
-                let t = &mut t[j..];
-                t.iter_mut().for_each(|v| *v = 0.0);
-                for k in 0..dw {
-                    let c = &ld[k * drows + first + j..k * drows + first + below];
-                    let a = c[0];
-                    for (tv, &v) in t.iter_mut().zip(c) {
-                        *tv += v * a;
-                    }
-                }
-                let col = &mut ls[rel[j] * srows..(rel[j] + 1) * srows];
-                for (&r, &tv) in rel[j..].iter().zip(t.iter()) {
-                    col[r] -= tv;
+                    col[rel[i]] -= t[jj * rows + i - j0];
                 }
             }
         }

@@ -69,7 +69,11 @@ use crate::cover::basis::{ELEMENT_DOFS, MAX_ELEMENT_DOFS, NO_DOF};
 use crate::cover::{barycentric, Discretisation};
 use crate::geometry::{cross, dot, norm, sub, Aabb, Vec2};
 use crate::model::Model;
-use std::collections::HashMap;
+/// The contact set's maps by contact (looked up for every contact at every step; SipHash,
+/// the standard library's default, was 1% of the arch example's run). Random per process,
+/// like the default: nothing may depend on their order.
+type HashMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::RandomState>;
+type HashSet<K> = std::collections::HashSet<K, foldhash::fast::RandomState>;
 
 mod insitu;
 mod saved;
@@ -330,6 +334,20 @@ fn tangent4(r: &LawResponse) -> [f64; 4] {
     [r.dtn_dgn, r.dtn_dgs, r.dts_dgn, r.dts_dgs]
 }
 
+/// Contacts from which the tangent product ([`ContactSet::apply_tangent`]) sums its two
+/// halves apart (on two threads when the run has them). Fixed, not the thread count's: the
+/// sums are the same on any number. Measured (2026-12-04, 40×40 wall, 18,750 contacts, 12
+/// steps, two threads, three alternated runs on a busy machine): solve stage 2.02/3.11/2.62
+/// → 1.91/2.68/2.61 s, histories byte-identical at 1 and 2 threads. Below it, one pass
+/// (each contact's rates and scatter at once: half the reads of a map then a scatter).
+const SPLIT_PRODUCT: usize = 2048;
+
+thread_local! {
+    /// The second half's sum of the tangent product (kept: a fresh allocation of that size
+    /// is fresh pages every product).
+    static PRODUCT_HALF: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// Summed contact force on one block from another.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct InterfaceForce {
@@ -379,7 +397,7 @@ pub struct ContactSet {
     /// ([`super::law::FrictionLaw::lasting`]).
     lasting: HashMap<ContactKey, (LawId, LawState)>,
     /// Every contact of the last committed step, open ones included.
-    seen: std::collections::HashSet<ContactKey>,
+    seen: HashSet<ContactKey>,
     /// The run's threads: the laws of the contacts are evaluated on them (local work), the
     /// forces scattered in contact order.
     pub threads: crate::parallel::Threads,
@@ -476,9 +494,9 @@ impl Default for ContactSet {
     fn default() -> Self {
         ContactSet {
             contacts: Vec::new(),
-            committed: HashMap::new(),
-            lasting: HashMap::new(),
-            seen: std::collections::HashSet::new(),
+            committed: HashMap::default(),
+            lasting: HashMap::default(),
+            seen: HashSet::default(),
             threads: Default::default(),
             touch_tol: 0.0,
             spacing: 0.0,
@@ -886,7 +904,7 @@ impl ContactSet {
         // An intact bond holds its contact: a bonded vertex that passed the end of its face
         // (by the bond's elastic shear, or round-off) stays in contact with that face
         // ([`held_edge`]); only laws with bonds have such contacts.
-        let mut held: HashMap<(usize, usize), Vec<(usize, Vec2)>> = HashMap::new();
+        let mut held: HashMap<(usize, usize), Vec<(usize, Vec2)>> = HashMap::default();
         for (k, (l, h, n)) in &self.committed {
             if l.law().bond(h) == Some(true) {
                 held.entry((k.0, k.2)).or_default().push((k.1, *n));
@@ -1219,26 +1237,36 @@ impl ContactSet {
     /// y += K_c v with the tangent of the chosen branches (matrix-free).
     pub fn apply_tangent(&self, v: &[f64], y: &mut [f64]) {
         let cs = &self.contacts;
-        if !self.threads.splits(cs.len()) {
-            // on one thread: each contact's rates and scatter in one pass (the same
-            // operations in the same order as below; half the reads of the contacts).
-            // Measured (2026-12-04, 40×40 wall, 12 steps, one thread): solve stage (GMRES,
-            // of which this product is a third) 2.98/3.40 → 2.58/2.62 s, byte-identical
-            // histories.
+        let pass = |cs: &[Contact], y: &mut [f64]| {
             for c in cs {
                 if let Some((tn, ts)) = c.tangent_forces(v) {
                     c.scatter(tn, ts, y);
                 }
             }
+        };
+        if cs.len() < SPLIT_PRODUCT {
+            pass(cs, y);
             return;
         }
-        let forces = self.threads.map(cs.len(), |i| cs[i].tangent_forces(v));
-        for (c, f) in cs.iter().zip(forces) {
-            let Some((tn, ts)) = f else {
-                continue;
-            };
-            c.scatter(tn, ts, y);
-        }
+        // the second half's sum apart, added last: at once on two threads, one after the
+        // other on one (the same operations in the same order on any number)
+        let (first, second) = cs.split_at(cs.len() / 2);
+        PRODUCT_HALF.with(|h| {
+            let mut guard = h.borrow_mut();
+            guard.clear();
+            guard.resize(y.len(), 0.0);
+            let h: &mut [f64] = &mut guard;
+            if self.threads.count() > 1 {
+                self.threads
+                    .install(|| rayon::join(|| pass(first, y), || pass(second, &mut *h)));
+            } else {
+                pass(first, y);
+                pass(second, h);
+            }
+            for (yi, hi) in y.iter_mut().zip(h.iter()) {
+                *yi += hi;
+            }
+        });
     }
 
     /// Whether the tangent of the chosen branches is symmetric (no sliding contact with the

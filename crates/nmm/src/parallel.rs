@@ -1,7 +1,9 @@
 //! The run's threads: local work (element integrals, contact laws, matrix rows) spread
 //! over a rayon pool of a chosen size, its results gathered **in index order**, so that
 //! every sum the global scatter then makes is the same whatever the thread count: a run
-//! gives the same numbers on 1 thread as on 8, bit for bit.
+//! gives the same numbers on 1 thread as on 8, bit for bit. Work split in two fixed parts
+//! (the factor's two subtrees, the contact product's two halves) runs on two threads when
+//! the pool has them, and in the same order on one.
 //!
 //! The count is `--threads N` (`threads=` in Python), else the environment's
 //! `NMM_THREADS`, else the cores the process may use (`available_parallelism`, which
@@ -21,9 +23,10 @@ pub const THREADS_VAR: &str = "NMM_THREADS";
 /// against 19.7–21.4 s on one (3 s of system time waking the pool's other thread at every
 /// assembly and contact loop); with 2048, 19.3–19.4 s on two and 19.3 s on one. The brick
 /// walls are unchanged within noise (20×20: 1.20–1.27 s, 40×40: 6.4–7.1 s, 12 steps):
-/// their time is in the factorisation and the triangular solves, which run on one thread
-/// (faer's parallel supernodal factorisation was slower on two threads than on one on the
-/// 40×40 wall's tangent: 34 against 26 ms).
+/// their time is in the factorisation and the triangular solves, which two threads share
+/// only for large factors (solver/cholesky.rs: the two parts of a split elimination tree;
+/// faer's own parallel supernodal factorisation was slower on two threads than on one on
+/// the 40×40 wall's tangent: 34 against 26 ms).
 pub const MIN_PARALLEL: usize = 2048;
 
 /// The default thread count: `NMM_THREADS` if set, else the cores the process may use.
@@ -82,13 +85,6 @@ impl Threads {
             Some(p) => p.install(f),
             None => f(),
         }
-    }
-
-    /// Whether [`Threads::map`] and the loops over `n` items run on more than one thread
-    /// (else a caller may fuse its local work with its scatter: the same operations in the
-    /// same order).
-    pub fn splits(&self, n: usize) -> bool {
-        self.pool.is_some() && n >= MIN_PARALLEL
     }
 
     /// `(0..n).map(f)` collected in order, computed on the run's threads.

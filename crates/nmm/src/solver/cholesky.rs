@@ -154,7 +154,7 @@ fn faer_error(e: faer::sparse::FaerError) -> SolveError {
 }
 
 /// `v` as `n` default values, allocated fallibly.
-fn try_zeroed<T: Clone + Default>(v: &mut Vec<T>, n: usize) -> Result<(), SolveError> {
+pub(super) fn try_zeroed<T: Clone + Default>(v: &mut Vec<T>, n: usize) -> Result<(), SolveError> {
     v.clear();
     v.try_reserve(n).map_err(|_| SolveError::OutOfMemory)?;
     v.resize(n, T::default());
@@ -536,11 +536,7 @@ pub(super) const WIDE_SUPERNODE: usize = 16;
 type Block<'a> = (usize, usize, &'a [usize], usize, &'a [f64]);
 
 fn block<'a>(sn: &'a SupernodalSymbolic, values: &'a [f64], k: usize) -> Block<'a> {
-    let (begin, end, val_ptr) = (
-        sn.supernode_begin(),
-        sn.supernode_end(),
-        sn.col_ptr_for_val(),
-    );
+    let (begin, end, val_ptr) = layout(sn);
     let (b, w) = (begin[k], end[k] - begin[k]);
     let pattern = sn.supernode(k).pattern();
     (
@@ -672,6 +668,26 @@ const MIN_SPLIT_VALUES: usize = 1 << 17;
 /// Largest share of the factor's values the top may hold for a split to be worth it.
 const SPLIT_TOP_SHARE: f64 = 0.4;
 
+/// Each supernode's first column, its end and the start of its values.
+pub(super) fn layout(sn: &SupernodalSymbolic) -> (&[usize], &[usize], &[usize]) {
+    (
+        sn.supernode_begin(),
+        sn.supernode_end(),
+        sn.col_ptr_for_val(),
+    )
+}
+
+/// The supernode of each column of the factor (allocated fallibly).
+pub(super) fn supernode_of(sn: &SupernodalSymbolic) -> Result<Vec<usize>, SolveError> {
+    let (begin, end) = (sn.supernode_begin(), sn.supernode_end());
+    let mut of = Vec::new();
+    try_zeroed(&mut of, end.last().copied().unwrap_or(0))?;
+    for k in 0..sn.n_supernodes() {
+        of[begin[k]..end[k]].iter_mut().for_each(|s| *s = k);
+    }
+    Ok(of)
+}
+
 /// The split of the elimination tree (see [`Split`]) with the parts' values balanced within
 /// about 10%: from the roots, the heaviest subtree is moved to the top (its children become
 /// candidates) until the candidates share out evenly (largest first, to the lighter part).
@@ -679,16 +695,9 @@ const SPLIT_TOP_SHARE: f64 = 0.4;
 /// a chain). Depends only on the symbolic analysis.
 fn split_tree(sn: &SupernodalSymbolic) -> Option<Split> {
     let ns = sn.n_supernodes();
-    let (begin, end, val_ptr) = (
-        sn.supernode_begin(),
-        sn.supernode_end(),
-        sn.col_ptr_for_val(),
-    );
+    let (begin, end, val_ptr) = layout(sn);
     let n = end.last().copied().unwrap_or(0);
-    let mut sn_of = vec![0usize; n];
-    for k in 0..ns {
-        sn_of[begin[k]..end[k]].iter_mut().for_each(|s| *s = k);
-    }
+    let sn_of = supernode_of(sn).ok()?;
     let parent: Vec<Option<usize>> = (0..ns)
         .map(|k| sn.supernode(k).pattern().first().map(|&r| sn_of[r]))
         .collect();

@@ -23,7 +23,9 @@
 //! faer's kernels within the machine's noise), a wider one by faer's `cholesky_in_place`
 //! and a triangular solve.
 
-use super::cholesky::{on_both, PartWork, Split, SupernodalSymbolic, WIDE_SUPERNODE};
+use super::cholesky::{
+    layout, on_both, supernode_of, try_zeroed, PartWork, Split, SupernodalSymbolic, WIDE_SUPERNODE,
+};
 use super::linear::SolveError;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::{matmul, triangular_solve};
@@ -66,13 +68,6 @@ pub(super) struct FactorWork {
     failed: Option<usize>,
 }
 
-fn try_zeroed<T: Clone + Default>(v: &mut Vec<T>, n: usize) -> Result<(), SolveError> {
-    v.clear();
-    v.try_reserve(n).map_err(|_| SolveError::OutOfMemory)?;
-    v.resize(n, T::default());
-    Ok(())
-}
-
 impl FactorPlan {
     /// The plan for `sn`, the supernodal analysis of the lower triangle (`lower_ptr`,
     /// `lower_rows`: column pointers and rows) of P A Pᵀ.
@@ -82,17 +77,9 @@ impl FactorPlan {
         lower_rows: &[usize],
     ) -> Result<FactorPlan, SolveError> {
         let ns = sn.n_supernodes();
-        let (begin, end, val_ptr) = (
-            sn.supernode_begin(),
-            sn.supernode_end(),
-            sn.col_ptr_for_val(),
-        );
+        let (begin, end, val_ptr) = layout(sn);
         let n = end.last().copied().unwrap_or(0);
-        let mut sn_of = Vec::new();
-        try_zeroed(&mut sn_of, n)?;
-        for k in 0..ns {
-            sn_of[begin[k]..end[k]].iter_mut().for_each(|s| *s = k);
-        }
+        let sn_of = supernode_of(sn)?;
         // the entries' places: column j of supernode s, row i at its local row
         let mut place = Vec::new();
         try_zeroed(&mut place, lower_rows.len())?;
@@ -254,11 +241,7 @@ unsafe fn factor_supernode(
     s: usize,
     w: &mut FactorWork,
 ) -> bool {
-    let (begin, end, val_ptr) = (
-        sn.supernode_begin(),
-        sn.supernode_end(),
-        sn.col_ptr_for_val(),
-    );
+    let (begin, end, val_ptr) = layout(sn);
     let (sb, se) = (begin[s], end[s]);
     let sw = se - sb;
     let s_pattern = sn.supernode(s).pattern();

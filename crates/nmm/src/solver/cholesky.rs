@@ -524,14 +524,6 @@ impl Cholesky {
 /// wide supernodes they were faster than the plain loops).
 pub(super) const WIDE_SUPERNODE: usize = 16;
 
-/// L Lᵀ x = b in place (`x`: b on entry, in the factor's order) with faer's supernodal
-/// factor: each supernode a dense column-major block of its w columns over its w diagonal
-/// rows and the rows of its pattern, the diagonal block lower triangular. The same
-/// operations as faer's own supernodal solve (a triangular solve on the diagonal block, a
-/// product with the block below it), as plain loops over the block's contiguous columns:
-/// faer's solve calls a dense kernel per supernode and pass, whose dispatch dominated on the
-/// block models' narrow supernodes (the arch example: 116 supernodes of 1,000 unknowns,
-/// 26,000 values; 60 µs a solve, 60% of a GMRES iteration).
 /// Supernode `k` of the factor: first column, width, pattern (rows below), rows, values.
 type Block<'a> = (usize, usize, &'a [usize], usize, &'a [f64]);
 
@@ -636,8 +628,16 @@ fn backward_step((b, w, pattern, rows, l): Block, x: &mut [f64], below: &mut [f6
     }
 }
 
-/// L Lᵀ x = b in place (`x`: b on entry, in the factor's order) with faer's supernodal
-/// factor, sequentially (see [`solve_split`] for two independent parts).
+/// L Lᵀ x = b in place (`x`: b on entry, in the factor's order) with the supernodal
+/// factor, sequentially (see [`solve_split`] for two independent parts): each supernode a
+/// dense column-major block of its w columns over its w diagonal rows and the rows of its
+/// pattern, the diagonal block lower triangular. The same operations as faer's own
+/// supernodal solve (a triangular solve on the diagonal block, a product with the block
+/// below it), as plain loops over the block's contiguous columns ([`forward_step`],
+/// [`backward_step`]; faer's dense kernels for supernodes of [`WIDE_SUPERNODE`] columns or
+/// more): faer's solve calls a dense kernel per supernode and pass, whose dispatch
+/// dominated on the block models' narrow supernodes (the arch example: 116 supernodes of
+/// 1,000 unknowns, 26,000 values; 60 µs a solve, 60% of a GMRES iteration).
 fn supernodal_solve(sn: &SupernodalSymbolic, values: &[f64], x: &mut [f64], below: &mut [f64]) {
     for k in 0..sn.n_supernodes() {
         forward_step(block(sn, values, k), x, below, |x, r, t| x[r] -= t);

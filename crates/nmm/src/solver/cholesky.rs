@@ -383,7 +383,7 @@ impl Cholesky {
         self.factorize_on(a, &crate::parallel::Threads::default())
     }
 
-    /// [`Cholesky::factorize`], the two parts of a split factor ([`split_tree`]) on two of
+    /// [`Cholesky::factorize`], the two parts of a split factor (`split_tree`) on two of
     /// `threads` when it has more than one (the same factor on any number).
     pub fn factorize_on(
         &mut self,
@@ -470,7 +470,7 @@ impl Cholesky {
         self.solve_in_place_on(b, &crate::parallel::Threads::default())
     }
 
-    /// [`Cholesky::solve_in_place`], the two parts of a split factor ([`split_tree`]) on two
+    /// [`Cholesky::solve_in_place`], the two parts of a split factor (`split_tree`) on two
     /// of `threads` when it has more than one (the same result on any number).
     pub fn solve_in_place_on(
         &mut self,

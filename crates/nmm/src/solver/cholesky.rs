@@ -1089,6 +1089,9 @@ mod solve_tests {
                         "{nx}x{ny}x{dofs}: unknown {i}"
                     );
                     assert!(!c.is_valid());
+                    // a failure does not outlive its factorisation
+                    c.factorize_on(&a, th).unwrap();
+                    assert!(solve_residual(&mut c, &a, &b) < 1e-11);
                 }
             }
         }

@@ -64,8 +64,9 @@ pub(super) struct FactorWork {
     block: Vec<f64>,
     /// faer's workspace for a wide diagonal block.
     stack: Option<MemBuffer>,
-    /// The first supernode whose panel was not positive definite.
-    failed: Option<usize>,
+    /// A panel of this factorisation was not positive definite (reset at the start of
+    /// every factorisation).
+    failed: bool,
 }
 
 impl FactorPlan {
@@ -156,7 +157,6 @@ impl FactorPlan {
                     .map_err(|_| SolveError::OutOfMemory)?,
             );
         }
-        w.failed = None;
         Ok(())
     }
 }
@@ -198,11 +198,16 @@ pub(super) fn factorize(
     threads: &crate::parallel::Threads,
 ) -> Result<(), SolveError> {
     let shared = Values(values.as_mut_ptr(), values.len());
+    // (a failure must not outlive its factorisation: it once did, and every later
+    // factorisation on the same analysis was refused)
+    for w in work.iter_mut() {
+        w.factor.failed = false;
+    }
     let run = |list: &mut dyn Iterator<Item = usize>, w: &mut FactorWork| {
         for s in list {
             // SAFETY: s is this thread's; its descendants are finished (see `Values`)
             if !unsafe { factor_supernode(sn, plan, &shared, s, w) } {
-                w.failed = Some(s);
+                w.failed = true;
                 return;
             }
         }
@@ -216,7 +221,7 @@ pub(super) fn factorize(
                 w0,
                 w1,
             );
-            if work.iter().any(|w| w.factor.failed.is_some()) {
+            if work.iter().any(|w| w.factor.failed) {
                 return Err(SolveError::NotPositiveDefinite);
             }
             run(&mut split.top.iter().copied(), &mut work[0].factor);
@@ -224,8 +229,8 @@ pub(super) fn factorize(
         None => run(&mut (0..sn.n_supernodes()), &mut work[0].factor),
     }
     match work[0].factor.failed {
-        Some(_) => Err(SolveError::NotPositiveDefinite),
-        None => Ok(()),
+        true => Err(SolveError::NotPositiveDefinite),
+        false => Ok(()),
     }
 }
 

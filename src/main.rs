@@ -464,8 +464,9 @@ fn execute(
     );
     let l = &summary.linear;
     eprintln!(
-        "linear solves {} (GMRES iterations {}), Cholesky factorisations {} ({} symbolic), LU {}; contact branch changes {}",
-        l.solves, l.gmres_iterations, l.factorisations, l.symbolic_analyses, l.lu_factorisations,
+        "linear solves {} (GMRES iterations {}), factorisations {}: Cholesky {}, unsymmetric LU {} ({} symbolic), sparse LU {}; contact branch changes {}",
+        l.solves, l.gmres_iterations, l.factorisations, l.factorisations - l.unsymmetric_factorisations,
+        l.unsymmetric_factorisations, l.symbolic_analyses, l.lu_factorisations,
         summary.active_set_changes
     );
     eprintln!(

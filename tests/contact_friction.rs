@@ -192,7 +192,9 @@ fn tall_wall_with_touching_joints_settles() {
 /// Direct shear with return mapping: the tangent is unsymmetric while contacts slide.
 /// Newton finds the active set in a few iterations, and once found the residual drops
 /// to round-off in one more (the law is piecewise linear in the gaps): the last ratio of
-/// successive residuals is below 1e-3.
+/// successive residuals is below 1e-3, unless the residual before the last was already at
+/// round-off (below 1e-13 of the first: with the whole tangent's LU as the preconditioner
+/// step 3 went 8.1e10 → 6.6e-4 → 1.2e-5, where 1.2e-5 is 1.5e-16 of 8.1e10).
 #[test]
 fn newton_converges_fast_when_contacts_slide() {
     for (step, s) in direct_shear(1.0e6, 30.0, "return-mapping")
@@ -205,7 +207,7 @@ fn newton_converges_fast_when_contacts_slide() {
         let k = r.len() - 1;
         assert!(r[k] < 1e-8 * r[0], "{r:?}");
         if k >= 2 {
-            assert!(r[k] / r[k - 1] < 1e-3, "{r:?}");
+            assert!(r[k] / r[k - 1] < 1e-3 || r[k - 1] < 1e-13 * r[0], "{r:?}");
         }
     }
 }

@@ -235,6 +235,12 @@ fn row_scatter(dofs: &[usize], bn: &[f64], bs: &[f64], tn: f64, ts: f64, y: &mut
 }
 
 impl Contact {
+    /// Whether its tangent block is unsymmetric (the friction coupling of a sliding
+    /// contact, ∂t_N/∂g_S or ∂t_S/∂g_N).
+    pub fn unsymmetric(&self) -> bool {
+        self.coef[1] != 0.0 || self.coef[2] != 0.0
+    }
+
     /// The rows as arrays of the constant basis's length (its loops then have a length the
     /// compiler knows), or `None` for another basis.
     #[inline(always)]
@@ -1272,9 +1278,12 @@ impl ContactSet {
     /// Whether the tangent of the chosen branches is symmetric (no sliding contact with the
     /// consistent, unsymmetric friction tangent).
     pub fn tangent_is_symmetric(&self) -> bool {
-        self.contacts
-            .iter()
-            .all(|c| c.coef[1] == 0.0 && c.coef[2] == 0.0)
+        self.contacts.iter().all(|c| !c.unsymmetric())
+    }
+
+    /// How many contacts make the tangent of the chosen branches unsymmetric (sliding).
+    pub fn unsymmetric_count(&self) -> usize {
+        self.contacts.iter().filter(|c| c.unsymmetric()).count()
     }
 
     /// The local tangent block of contact `c` on its chosen branch, row-major over its

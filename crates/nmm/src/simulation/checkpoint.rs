@@ -21,7 +21,8 @@
 //!   round-off, of the next steps' factorisations follow from them. A checkpoint of an
 //!   earlier format is refused with the version that wrote it;
 //! - the run's outputs so far: the length of history.csv in bytes, the .pvd frame lists,
-//!   and the run's counters for summary.json.
+//!   and the run's counters for summary.json (format 6: six linear-solver counts, the
+//!   unsymmetric LU factorisations added).
 //!
 //! Numbers are stored as their bits (little-endian `u64`), so nothing is lost to decimal.
 //! The file ends with an FNV-1a checksum of everything before it; it is written to a
@@ -36,7 +37,7 @@ use std::time::Duration;
 
 const MAGIC: &[u8; 8] = b"NMMCKPT\n";
 /// Bumped whenever the layout below changes.
-pub const FORMAT: u32 = 5;
+pub const FORMAT: u32 = 6;
 
 /// The program version a checkpoint must come from.
 pub fn program_version() -> String {
@@ -203,7 +204,7 @@ pub struct SavedOutputs {
     pub active_set_changes: usize,
     pub not_in_equilibrium: usize,
     pub last_equilibrium: bool,
-    pub linear: [usize; 5],
+    pub linear: [usize; 6],
     /// cover, assembly, contact, factorisation, solve, output (s).
     pub timings: [Duration; 6],
     /// Steps done in static mode.
@@ -837,7 +838,7 @@ impl Checkpoint {
                 active_set_changes: r.us()?,
                 not_in_equilibrium: r.us()?,
                 last_equilibrium: r.b()?,
-                linear: [r.us()?, r.us()?, r.us()?, r.us()?, r.us()?],
+                linear: [r.us()?, r.us()?, r.us()?, r.us()?, r.us()?, r.us()?],
                 timings: [r.d()?, r.d()?, r.d()?, r.d()?, r.d()?, r.d()?],
                 static_steps: r.us()?,
                 total: r.d()?,

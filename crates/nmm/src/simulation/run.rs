@@ -273,7 +273,9 @@ impl RunSummary {
             "linear": {
                 "solves": self.linear.solves,
                 "gmres_iterations": self.linear.gmres_iterations,
-                "cholesky_factorisations": self.linear.factorisations,
+                "cholesky_factorisations": self.linear.factorisations
+                    - self.linear.unsymmetric_factorisations,
+                "unsymmetric_lu_factorisations": self.linear.unsymmetric_factorisations,
                 "symbolic_analyses": self.linear.symbolic_analyses,
                 "lu_factorisations": self.linear.lu_factorisations,
             },
@@ -603,6 +605,7 @@ fn step_to_end(
         summary.linear.factorisations = l[2];
         summary.linear.symbolic_analyses = l[3];
         summary.linear.lu_factorisations = l[4];
+        summary.linear.unsymmetric_factorisations = l[5];
         let t = o.timings;
         sim.timings.cover += t[0];
         sim.timings.stages.assembly += t[1];
@@ -716,6 +719,7 @@ fn step_to_end(
                     summary.linear.factorisations,
                     summary.linear.symbolic_analyses,
                     summary.linear.lu_factorisations,
+                    summary.linear.unsymmetric_factorisations,
                 ],
                 timings: [
                     sim.timings.cover,

@@ -531,6 +531,10 @@ impl TangentOperator for StepSystem<'_> {
         self.contacts.tangent_is_symmetric()
     }
 
+    fn unsymmetric_pieces(&self) -> usize {
+        self.contacts.unsymmetric_count()
+    }
+
     fn pattern_is_complete(&self) -> bool {
         self.tangent.complete
     }

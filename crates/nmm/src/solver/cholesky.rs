@@ -138,6 +138,16 @@ pub struct Cholesky {
     /// faer's workspaces with the (size, alignment) they were made for.
     factor_work: Option<(MemBuffer, (usize, usize))>,
     solve_work: Option<(MemBuffer, (usize, usize))>,
+    /// Uᵀ of an LU factorisation without pivoting ([`Cholesky::factorize_lu_on`]; L in
+    /// `values`), in the factor's layout; empty until the first.
+    upper: Vec<f64>,
+    /// For each slot of the lower triangle of P A Pᵀ off its diagonal, the slot of A's
+    /// pattern of the transposed entry and where the LU puts it (`usize::MAX` on the
+    /// diagonal; below the factor's length: in `values`, a diagonal block's upper part;
+    /// from it on: in `upper`); made at the first LU of an analysis.
+    mirror: Vec<(u32, usize)>,
+    /// The held numeric factorisation is an LU (`values` and `upper`), not a Cholesky one.
+    lu_held: bool,
     /// A numeric factorisation is held.
     valid: bool,
     /// Symbolic analyses done.
@@ -368,6 +378,7 @@ impl Cholesky {
         }
         self.lower_col_ptr = lower_ptr;
         self.lower_row_idx = lower_rows;
+        self.mirror.clear();
         try_zeroed(&mut self.values, s.len_val())?;
         ensure(
             &mut self.solve_work,
@@ -391,17 +402,8 @@ impl Cholesky {
         threads: &crate::parallel::Threads,
     ) -> Result<(), SolveError> {
         self.valid = false;
-        let same = match &self.pattern {
-            Some(p) => Arc::ptr_eq(p, &a.pattern) || **p == *a.pattern,
-            None => false,
-        };
-        if !same || self.symbolic.is_none() {
-            self.symbolic = None;
-            self.pattern = None;
-            self.analyse(&a.pattern)?;
-            self.pattern = Some(a.pattern.clone());
-            self.symbolic_count += 1;
-        }
+        self.lu_held = false;
+        self.analyse_for(&a.pattern)?;
         let s = self.symbolic.as_ref().expect("symbolic analysis");
         match (&self.plan, s.raw()) {
             (Some(plan), SymbolicCholeskyRaw::Supernodal(sn)) => {
@@ -425,6 +427,125 @@ impl Cholesky {
         self.numeric_count += 1;
         self.valid = true;
         Ok(())
+    }
+
+    /// The LU factorisation without pivoting of the unsymmetric `a` whose pattern is
+    /// symmetric (a tangent with sliding contacts), on the symbolic analysis of its pattern
+    /// (the Cholesky factor's: the same ordering, supernodes and storage for L and Uᵀ;
+    /// [`super::supernodal::factorize_lu`]), the two parts of a split factor on two of
+    /// `threads` as [`Cholesky::factorize_on`]. Its solves are the Cholesky factor's (the
+    /// backward pass on Uᵀ). `Err(Singular)` at a pivot that is zero or not finite,
+    /// `Err(Other)` for a pattern whose analysis is not supernodal: the caller falls back
+    /// to the symmetric part's Cholesky factor.
+    pub fn factorize_lu_on(
+        &mut self,
+        a: &SparseMatrix,
+        threads: &crate::parallel::Threads,
+    ) -> Result<(), SolveError> {
+        self.valid = false;
+        self.lu_held = false;
+        self.analyse_for(&a.pattern)?;
+        let s = self.symbolic.as_ref().expect("symbolic analysis");
+        let (Some(plan), SymbolicCholeskyRaw::Supernodal(sn)) = (&self.plan, s.raw()) else {
+            return Err(SolveError::Other("no supernodal analysis".into()));
+        };
+        let len = self.values.len();
+        if self.mirror.len() != self.gather.len() {
+            // the transposed entries' slots and places (once per analysis)
+            let p = &a.pattern;
+            let (begin, end, val_ptr) = layout(sn);
+            let sn_of = supernode_of(sn)?;
+            self.mirror.clear();
+            self.mirror
+                .try_reserve_exact(self.gather.len())
+                .map_err(|_| SolveError::OutOfMemory)?;
+            // the factor's column and row of each lower slot: column j holds slots
+            // lower_col_ptr[j]..lower_col_ptr[j + 1], rows lower_row_idx
+            let mut col_of = Vec::new();
+            try_zeroed(&mut col_of, self.gather.len())?;
+            for j in 0..p.n {
+                for c in &mut col_of[self.lower_col_ptr[j]..self.lower_col_ptr[j + 1]] {
+                    *c = j;
+                }
+            }
+            let mut original = Vec::new();
+            try_zeroed(&mut original, p.n)?;
+            for (o, &i) in self.inv.iter().enumerate() {
+                original[i] = o;
+            }
+            for (t, (&k, &i)) in self.gather.iter().zip(&self.lower_row_idx).enumerate() {
+                let j = col_of[t];
+                if i == j {
+                    self.mirror.push((k, usize::MAX));
+                    continue;
+                }
+                let m = p
+                    .slot(original[j], original[i])
+                    .expect("a symmetric pattern") as u32;
+                let sj = sn_of[j];
+                let place = if i < end[sj] {
+                    // both in j's supernode: its diagonal block's upper part, in L's values
+                    let rows = (val_ptr[sj + 1] - val_ptr[sj]) / (end[sj] - begin[sj]);
+                    val_ptr[sj] + (i - begin[sj]) * rows + (j - begin[sj])
+                } else {
+                    len + plan.place[t]
+                };
+                self.mirror.push((m, place));
+            }
+        }
+        if self.upper.len() != len {
+            try_zeroed(&mut self.upper, len)?;
+        }
+        self.values.iter_mut().for_each(|v| *v = 0.0);
+        self.upper.iter_mut().for_each(|v| *v = 0.0);
+        for (&t, &k) in plan.place.iter().zip(&self.gather) {
+            self.values[t] = a.values[k as usize];
+        }
+        for &(m, place) in &self.mirror {
+            if place == usize::MAX {
+                continue;
+            }
+            let v = a.values[m as usize];
+            if place < len {
+                self.values[place] = v;
+            } else {
+                self.upper[place - len] = v;
+            }
+        }
+        super::supernodal::factorize_lu(
+            sn,
+            plan,
+            self.split.as_ref(),
+            &mut self.values,
+            &mut self.upper,
+            &mut self.part_work,
+            threads,
+        )?;
+        self.numeric_count += 1;
+        self.lu_held = true;
+        self.valid = true;
+        Ok(())
+    }
+
+    /// The symbolic analysis of `pattern`, unless the held one is of the same pattern.
+    fn analyse_for(&mut self, pattern: &Arc<SparsePattern>) -> Result<(), SolveError> {
+        let same = match &self.pattern {
+            Some(p) => Arc::ptr_eq(p, pattern) || **p == **pattern,
+            None => false,
+        };
+        if !same || self.symbolic.is_none() {
+            self.symbolic = None;
+            self.pattern = None;
+            self.analyse(pattern)?;
+            self.pattern = Some(pattern.clone());
+            self.symbolic_count += 1;
+        }
+        Ok(())
+    }
+
+    /// Whether the held factorisation is an LU ([`Cholesky::factorize_lu_on`]).
+    pub fn holds_lu(&self) -> bool {
+        self.valid && self.lu_held
     }
 
     /// faer's own numeric factorisation of `a` over the held analysis (the simplicial
@@ -485,18 +606,26 @@ impl Cholesky {
         for (&i, &v) in self.inv.iter().zip(b.iter()) {
             self.permuted[i] = v;
         }
+        let factor = (
+            &self.values[..],
+            if self.lu_held {
+                &self.upper[..]
+            } else {
+                &self.values[..]
+            },
+        );
         match s.raw() {
             SymbolicCholeskyRaw::Supernodal(sn) => match &self.split {
                 Some(split) => solve_split(
                     sn,
-                    &self.values,
+                    factor,
                     split,
                     &mut self.permuted,
                     &mut self.below,
                     &mut self.part_work,
                     threads,
                 ),
-                None => supernodal_solve(sn, &self.values, &mut self.permuted, &mut self.below),
+                None => supernodal_solve(sn, factor, &mut self.permuted, &mut self.below),
             },
             SymbolicCholeskyRaw::Simplicial(_) => {
                 let l = LltRef::<'_, usize, f64>::new(s, &self.values);
@@ -638,12 +767,20 @@ fn backward_step((b, w, pattern, rows, l): Block, x: &mut [f64], below: &mut [f6
 /// more): faer's solve calls a dense kernel per supernode and pass, whose dispatch
 /// dominated on the block models' narrow supernodes (the arch example: 116 supernodes of
 /// 1,000 unknowns, 26,000 values; 60 µs a solve, 60% of a GMRES iteration).
-fn supernodal_solve(sn: &SupernodalSymbolic, values: &[f64], x: &mut [f64], below: &mut [f64]) {
+///
+/// `(values, upper)`: L's values and those of the backward pass — with an LU factor
+/// ([`Cholesky::factorize_lu_on`]) Uᵀ's (it solves U x = y), else L's again.
+fn supernodal_solve(
+    sn: &SupernodalSymbolic,
+    (values, upper): (&[f64], &[f64]),
+    x: &mut [f64],
+    below: &mut [f64],
+) {
     for k in 0..sn.n_supernodes() {
         forward_step(block(sn, values, k), x, below, |x, r, t| x[r] -= t);
     }
     for k in (0..sn.n_supernodes()).rev() {
-        backward_step(block(sn, values, k), x, below);
+        backward_step(block(sn, upper, k), x, below);
     }
 }
 
@@ -799,7 +936,7 @@ pub(super) struct PartWork {
 /// the result does not depend on the thread count.
 fn solve_split(
     sn: &SupernodalSymbolic,
-    values: &[f64],
+    (values, upper): (&[f64], &[f64]),
     split: &Split,
     x: &mut [f64],
     below: &mut [f64],
@@ -843,12 +980,12 @@ fn solve_split(
         forward_step(block(sn, values, k), x, below, |x, r, t| x[r] -= t);
     }
     for &k in split.top.iter().rev() {
-        backward_step(block(sn, values, k), x, below);
+        backward_step(block(sn, upper, k), x, below);
     }
     let backward = |p: usize, w: &mut PartWork| {
         w.x.copy_from_slice(x);
         for &k in split.parts[p].iter().rev() {
-            backward_step(block(sn, values, k), &mut w.x, &mut w.below);
+            backward_step(block(sn, upper, k), &mut w.x, &mut w.below);
         }
     };
     on_both(threads, backward, w0, w1);
@@ -1029,7 +1166,7 @@ mod solve_tests {
         let SymbolicCholeskyRaw::Supernodal(sn) = c.symbolic.as_ref().unwrap().raw() else {
             panic!("supernodal")
         };
-        supernodal_solve(sn, &c.values, &mut seq, &mut below);
+        supernodal_solve(sn, (&c.values, &c.values), &mut seq, &mut below);
         for (&i, &v) in c.inv.iter().zip(&one) {
             assert!(
                 (seq[i] - v).abs() <= 1e-12 * v.abs().max(1.0),
@@ -1094,6 +1231,88 @@ mod solve_tests {
                     assert!(solve_residual(&mut c, &a, &b) < 1e-11);
                 }
             }
+        }
+    }
+
+    /// The LU without pivoting on the Cholesky analysis (supernodal.rs `factorize_lu`)
+    /// solves an unsymmetric A with a symmetric pattern (a grid made unsymmetric, as
+    /// sliding contacts make the tangent) to round-off: narrow supernodes, wide ones (the
+    /// diagonal blocks' LU by halves from 32 columns), a factor split in two parts; the
+    /// same bit for bit on one thread and two; a Cholesky factorisation after it is a
+    /// Cholesky one again; a negative pivot is no failure, a zero one is.
+    #[test]
+    fn the_lu_solves_an_unsymmetric_matrix_on_one_thread_and_two() {
+        let two = crate::parallel::Threads::new(2).unwrap();
+        for (nx, ny, dofs) in [(12, 9, 2), (6, 5, 24), (3, 3, 40), (90, 60, 2)] {
+            let sym = block_grid(nx, ny, dofs);
+            let mut a = sym.clone();
+            let p = a.pattern.clone();
+            for c in 0..a.n() {
+                for k in p.col_ptr[c]..p.col_ptr[c + 1] {
+                    let r = p.row_idx[k];
+                    if r != c {
+                        a.values[k] += (((r * 3 + c * 5) % 7) as f64 - 3.0) / 60.0;
+                    }
+                }
+            }
+            let mut c = Cholesky::default();
+            c.factorize_lu_on(&a, &Default::default()).unwrap();
+            assert!(c.holds_lu());
+            if dofs == 40 {
+                let SymbolicCholeskyRaw::Supernodal(sn) = c.symbolic.as_ref().unwrap().raw() else {
+                    panic!("supernodal")
+                };
+                let widest = (0..sn.n_supernodes())
+                    .map(|k| sn.supernode_end()[k] - sn.supernode_begin()[k])
+                    .max()
+                    .unwrap();
+                assert!(widest >= 2 * WIDE_SUPERNODE, "{widest}");
+            }
+            let (l, u) = (c.values.clone(), c.upper.clone());
+            c.factorize_lu_on(&a, &two).unwrap();
+            assert_eq!(
+                (l, u),
+                (c.values.clone(), c.upper.clone()),
+                "{nx}x{ny}x{dofs}"
+            );
+            let b: Vec<f64> = (0..a.n()).map(|i| (i as f64 * 0.3).cos()).collect();
+            let mut one = b.clone();
+            c.solve_in_place(&mut one).unwrap();
+            let mut twice = b.clone();
+            c.solve_in_place_on(&mut twice, &two).unwrap();
+            assert_eq!(one, twice);
+            let err = solve_residual(&mut c, &a, &b);
+            assert!(err < 1e-11, "{nx}x{ny}x{dofs}: {err}");
+            // not the symmetric matrix's solution: the unsymmetric part was read
+            assert!(solve_residual(&mut c, &sym, &b) > 1e-6);
+            c.factorize(&sym).unwrap();
+            assert!(!c.holds_lu());
+            assert!(solve_residual(&mut c, &sym, &b) < 1e-11);
+            // a negative pivot is no failure (an indefinite symmetric part): the last
+            // unknown's diagonal made negative
+            let last = a.n() - 1;
+            let mut m = a.clone();
+            m.values[m.pattern.slot(last, last).unwrap()] = -1.0;
+            c.factorize_lu_on(&m, &two).unwrap();
+            let err = solve_residual(&mut c, &m, &b);
+            assert!(err < 1e-10, "{nx}x{ny}x{dofs}: {err}");
+            // a zero pivot is: the last unknown's row and column zero
+            for col in 0..m.n() {
+                for k in p.col_ptr[col]..p.col_ptr[col + 1] {
+                    if col == last || p.row_idx[k] == last {
+                        m.values[k] = 0.0;
+                    }
+                }
+            }
+            for th in [&crate::parallel::Threads::default(), &two] {
+                assert!(matches!(
+                    c.factorize_lu_on(&m, th),
+                    Err(SolveError::Singular)
+                ));
+                assert!(!c.is_valid());
+            }
+            c.factorize_on(&sym, &two).unwrap();
+            assert!(solve_residual(&mut c, &sym, &b) < 1e-11);
         }
     }
 

@@ -408,14 +408,7 @@ pub fn solve_piecewise(
         x.copy_from_slice(&best);
     }
     rep.final_regularisation = sigma;
-    let mut ls = lin.stats();
-    ls.solves -= stats0.solves;
-    ls.gmres_iterations -= stats0.gmres_iterations;
-    ls.factorisations -= stats0.factorisations;
-    ls.symbolic_analyses -= stats0.symbolic_analyses;
-    ls.lu_factorisations -= stats0.lu_factorisations;
-    ls.factorisation_time -= stats0.factorisation_time;
-    ls.solve_time -= stats0.solve_time;
+    let ls = lin.stats() - stats0;
     rep.times.factorisation += ls.factorisation_time;
     rep.times.solve += ls.solve_time;
     rep.linear = ls;

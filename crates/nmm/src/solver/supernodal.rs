@@ -198,6 +198,55 @@ pub(super) fn factorize(
     threads: &crate::parallel::Threads,
 ) -> Result<(), SolveError> {
     let shared = Values(values.as_mut_ptr(), values.len());
+    in_tree_order(sn, split, work, threads, |s, w| {
+        // SAFETY: s is this thread's; its descendants are finished (see `Values`)
+        unsafe { factor_supernode(sn, plan, &shared, s, w) }
+    })
+}
+
+/// The LU factorisation without pivoting A = L U of a matrix with the symmetric pattern of
+/// the analysis, L's values in `lower` and Uᵀ's in `upper`, both in the Cholesky factor's
+/// layout (A's entries placed: its lower triangle and its upper one within the diagonal
+/// blocks in `lower`, the rest of its upper triangle, transposed, in `upper`). L holds the
+/// pivots on its diagonal, U a unit diagonal (stored): the solves are then the Cholesky
+/// factor's, forward with L and backward with (Uᵀ)ᵀ (cholesky.rs `supernodal_solve`).
+/// Left-looking as [`factorize`]: each supernode's L columns and Uᵀ rows less the updates
+/// of its descendants, then its diagonal block's LU (Doolittle, no pivoting; the pivots
+/// moved into L) and the blocks below it by triangular solves. The same operations in the
+/// same order on one thread and on two. `Err(Singular)` at a pivot that is zero or not
+/// finite (the caller falls back to the symmetric part's Cholesky factor); a negative
+/// one is no failure (with sliding contacts the symmetric part may be indefinite: on the
+/// shaken slope example 948 of 2,293 LUs met one; whether the factor is accurate, GMRES
+/// preconditioned by it tells).
+pub(super) fn factorize_lu(
+    sn: &SupernodalSymbolic,
+    plan: &FactorPlan,
+    split: Option<&Split>,
+    lower: &mut [f64],
+    upper: &mut [f64],
+    work: &mut [PartWork; 2],
+    threads: &crate::parallel::Threads,
+) -> Result<(), SolveError> {
+    let l = Values(lower.as_mut_ptr(), lower.len());
+    let u = Values(upper.as_mut_ptr(), upper.len());
+    in_tree_order(sn, split, work, threads, |s, w| {
+        // SAFETY: as in `factorize`, for both arrays
+        unsafe { lu_supernode(sn, plan, &l, &u, s, w) }
+    })
+    .map_err(|_| SolveError::Singular)
+}
+
+/// `kernel(s, work)` for every supernode s in an order in which descendants come first:
+/// the parts of `split` on two of `threads` (if it has two), then the top; without a split
+/// all in order on the calling thread. Stops at the first kernel that fails
+/// (`Err(NotPositiveDefinite)`).
+fn in_tree_order(
+    sn: &SupernodalSymbolic,
+    split: Option<&Split>,
+    work: &mut [PartWork; 2],
+    threads: &crate::parallel::Threads,
+    kernel: impl Fn(usize, &mut FactorWork) -> bool + Sync,
+) -> Result<(), SolveError> {
     // (a failure must not outlive its factorisation: it once did, and every later
     // factorisation on the same analysis was refused)
     for w in work.iter_mut() {
@@ -205,8 +254,7 @@ pub(super) fn factorize(
     }
     let run = |list: &mut dyn Iterator<Item = usize>, w: &mut FactorWork| {
         for s in list {
-            // SAFETY: s is this thread's; its descendants are finished (see `Values`)
-            if !unsafe { factor_supernode(sn, plan, &shared, s, w) } {
+            if !kernel(s, w) {
                 w.failed = true;
                 return;
             }
@@ -234,6 +282,199 @@ pub(super) fn factorize(
     }
 }
 
+/// The supernode's rows (local numbers in `w.local`) and the updates' common part: for each
+/// descendant d of s, `f(ld, ud, first, mid, below, rel)` with d's values as matrices, the
+/// first of its rows at or below s's first column, how many of those are s's columns, how
+/// many in all, and their local rows in s.
+///
+/// SAFETY: as for [`factor_supernode`].
+#[inline(always)]
+unsafe fn for_each_update(
+    sn: &SupernodalSymbolic,
+    plan: &FactorPlan,
+    s: usize,
+    w: &mut FactorWork,
+    mut f: impl FnMut(usize, usize, usize, usize, &[usize], &mut [f64]),
+) {
+    let (begin, end, _) = layout(sn);
+    let (sb, se) = (begin[s], end[s]);
+    let sw = se - sb;
+    let s_pattern = sn.supernode(s).pattern();
+    for (i, &r) in s_pattern.iter().enumerate() {
+        w.local[r] = sw + i;
+    }
+    for &d in &plan.updates[plan.update_ptr[s]..plan.update_ptr[s + 1]] {
+        let d = d as usize;
+        let dw = end[d] - begin[d];
+        let d_pattern = sn.supernode(d).pattern();
+        let start = d_pattern.partition_point(|&r| r < sb);
+        let mid = d_pattern[start..].partition_point(|&r| r < se);
+        let below = d_pattern.len() - start;
+        let rel = &mut w.rel[..below];
+        for (x, &r) in rel.iter_mut().zip(&d_pattern[start..]) {
+            *x = if r < se { r - sb } else { w.local[r] };
+        }
+        f(d, dw + start, mid, below, rel, &mut w.block);
+    }
+    for &r in s_pattern {
+        w.local[r] = 0;
+    }
+}
+
+/// LU-factorise supernode `s` (see [`factorize_lu`]). Returns false at a pivot that is
+/// zero or not finite.
+///
+/// SAFETY: as for [`factor_supernode`], for both arrays.
+unsafe fn lu_supernode(
+    sn: &SupernodalSymbolic,
+    plan: &FactorPlan,
+    lower: &Values,
+    upper: &Values,
+    s: usize,
+    w: &mut FactorWork,
+) -> bool {
+    let (begin, end, val_ptr) = layout(sn);
+    let sw = end[s] - begin[s];
+    let srows = sw + sn.supernode(s).pattern().len();
+    let ls = lower.get_mut(val_ptr[s], val_ptr[s + 1]);
+    let us = upper.get_mut(val_ptr[s], val_ptr[s + 1]);
+    for_each_update(sn, plan, s, w, |d, first, mid, below, rel, block| {
+        let (dw, drows) = (end[d] - begin[d], val_ptr[d + 1] - val_ptr[d]);
+        let drows = drows / dw;
+        let ld = MatRef::from_column_major_slice(lower.get(val_ptr[d], val_ptr[d + 1]), drows, dw);
+        let ud = MatRef::from_column_major_slice(upper.get(val_ptr[d], val_ptr[d + 1]), drows, dw);
+        for j0 in (0..mid).step_by(UPDATE_COLUMNS) {
+            let cols = UPDATE_COLUMNS.min(mid - j0);
+            // L's columns of s (the whole diagonal block and below): L_d · (U_d's columns)
+            let t = &mut block[..below * cols];
+            matmul::matmul(
+                MatMut::from_column_major_slice_mut(t, below, cols),
+                Accum::Replace,
+                ld.subrows(first, below),
+                ud.subrows(first + j0, cols).transpose(),
+                1.0,
+                Par::Seq,
+            );
+            for jj in 0..cols {
+                let col = &mut ls[rel[j0 + jj] * srows..(rel[j0 + jj] + 1) * srows];
+                for (i, &tv) in t[jj * below..(jj + 1) * below].iter().enumerate() {
+                    col[rel[i]] -= tv;
+                }
+            }
+            // Uᵀ's rows below the diagonal block: (U_d's rows)ᵀ · L_d's rows of s
+            let rows = below - mid;
+            if rows > 0 {
+                let t = &mut block[..rows * cols];
+                matmul::matmul(
+                    MatMut::from_column_major_slice_mut(t, rows, cols),
+                    Accum::Replace,
+                    ud.subrows(first + mid, rows),
+                    ld.subrows(first + j0, cols).transpose(),
+                    1.0,
+                    Par::Seq,
+                );
+                for jj in 0..cols {
+                    let col = &mut us[rel[j0 + jj] * srows..(rel[j0 + jj] + 1) * srows];
+                    for (i, &tv) in t[jj * rows..(jj + 1) * rows].iter().enumerate() {
+                        col[rel[mid + i]] -= tv;
+                    }
+                }
+            }
+        }
+    });
+    // the diagonal block: Doolittle L₁ U₁ in place, then L = L₁ diag(u), Uᵀ = (diag(u)⁻¹ U₁)ᵀ
+    {
+        let mut lp = MatMut::from_column_major_slice_mut(&mut *ls, srows, sw);
+        if !lu_in_place(lp.rb_mut().subrows_mut(0, sw)) {
+            return false;
+        }
+    }
+    for c in 0..sw {
+        let u = ls[c * srows + c];
+        let inv = 1.0 / u;
+        for r in c + 1..sw {
+            ls[c * srows + r] *= u;
+            us[c * srows + r] = ls[r * srows + c] * inv;
+        }
+        us[c * srows + c] = 1.0;
+    }
+    // below it: L_R = B U⁻¹ (Uᵀ unit lower), Uᵀ_R = B' L⁻ᵀ
+    if sw >= WIDE_SUPERNODE {
+        let (ltop, lbot) = MatMut::from_column_major_slice_mut(ls, srows, sw).split_at_row_mut(sw);
+        let (utop, ubot) = MatMut::from_column_major_slice_mut(us, srows, sw).split_at_row_mut(sw);
+        triangular_solve::solve_unit_lower_triangular_in_place(
+            utop.rb(),
+            lbot.transpose_mut(),
+            Par::Seq,
+        );
+        triangular_solve::solve_lower_triangular_in_place(
+            ltop.rb(),
+            ubot.transpose_mut(),
+            Par::Seq,
+        );
+        return true;
+    }
+    for c in 0..sw {
+        for k in 0..c {
+            // U[k, c] = Uᵀ[c, k]; L[c, k]
+            let (ukc, lck) = (us[k * srows + c], ls[k * srows + c]);
+            for r in sw..srows {
+                ls[c * srows + r] -= ls[k * srows + r] * ukc;
+                us[c * srows + r] -= us[k * srows + r] * lck;
+            }
+        }
+        let inv = 1.0 / ls[c * srows + c];
+        us[c * srows + sw..(c + 1) * srows]
+            .iter_mut()
+            .for_each(|x| *x *= inv);
+    }
+    true
+}
+
+/// LU without pivoting of the square `a` in place (Doolittle: L unit lower below the
+/// diagonal, U on and above it): by halves (the top-left block, the blocks beside and
+/// below it by triangular solves, the bottom-right less their product) down to
+/// [`WIDE_SUPERNODE`] columns, then by columns. False at a pivot that is zero or not
+/// finite.
+fn lu_in_place(mut a: MatMut<'_, f64>) -> bool {
+    let n = a.nrows();
+    if n < 2 * WIDE_SUPERNODE {
+        for k in 0..n {
+            let p = a[(k, k)];
+            if !p.is_finite() || p == 0.0 {
+                return false;
+            }
+            let inv = 1.0 / p;
+            for i in k + 1..n {
+                a[(i, k)] *= inv;
+            }
+            for j in k + 1..n {
+                let akj = a[(k, j)];
+                if akj != 0.0 {
+                    for i in k + 1..n {
+                        let v = a[(i, k)];
+                        a[(i, j)] -= v * akj;
+                    }
+                }
+            }
+        }
+        return true;
+    }
+    let h = n / 2;
+    let (mut a11, mut a12, mut a21, mut a22) = a.rb_mut().split_at_mut(h, h);
+    if !lu_in_place(a11.rb_mut()) {
+        return false;
+    }
+    triangular_solve::solve_unit_lower_triangular_in_place(a11.rb(), a12.rb_mut(), Par::Seq);
+    triangular_solve::solve_lower_triangular_in_place(
+        a11.rb().transpose(),
+        a21.rb_mut().transpose_mut(),
+        Par::Seq,
+    );
+    matmul::matmul(a22.rb_mut(), Accum::Add, a21.rb(), a12.rb(), -1.0, Par::Seq);
+    lu_in_place(a22)
+}
+
 /// Factorise supernode `s` (see the module docs). Returns false if its panel is not
 /// positive definite.
 ///
@@ -252,29 +493,16 @@ unsafe fn factor_supernode(
     let s_pattern = sn.supernode(s).pattern();
     let srows = sw + s_pattern.len();
     let ls = values.get_mut(val_ptr[s], val_ptr[s + 1]);
-    for (i, &r) in s_pattern.iter().enumerate() {
-        w.local[r] = sw + i;
-    }
-    for &d in &plan.updates[plan.update_ptr[s]..plan.update_ptr[s + 1]] {
-        let d = d as usize;
+    for_each_update(sn, plan, s, w, |d, first, mid, below, rel, block| {
         let dw = end[d] - begin[d];
-        let d_pattern = sn.supernode(d).pattern();
-        let drows = dw + d_pattern.len();
+        let drows = (val_ptr[d + 1] - val_ptr[d]) / dw;
         let ld = values.get(val_ptr[d], val_ptr[d + 1]);
-        let start = d_pattern.partition_point(|&r| r < sb);
-        let mid = d_pattern[start..].partition_point(|&r| r < se);
-        let below = d_pattern.len() - start;
-        let rel = &mut w.rel[..below];
-        for (x, &r) in rel.iter_mut().zip(&d_pattern[start..]) {
-            *x = if r < se { r - sb } else { w.local[r] };
-        }
-        let first = dw + start;
         // T = L_d[rows ≥ s] · L_d[rows of s]ᵀ, UPDATE_COLUMNS columns of s at a time
         // from their diagonal row down, then scattered
         let ld = MatRef::from_column_major_slice(ld, drows, dw);
         for j0 in (0..mid).step_by(UPDATE_COLUMNS) {
             let (cols, rows) = (UPDATE_COLUMNS.min(mid - j0), below - j0);
-            let t = &mut w.block[..rows * cols];
+            let t = &mut block[..rows * cols];
             matmul::matmul(
                 MatMut::from_column_major_slice_mut(t, rows, cols),
                 Accum::Replace,
@@ -291,10 +519,7 @@ unsafe fn factor_supernode(
                 }
             }
         }
-    }
-    for &r in s_pattern {
-        w.local[r] = 0;
-    }
+    });
     if sw >= WIDE_SUPERNODE {
         let mut panel = MatMut::from_column_major_slice_mut(ls, srows, sw);
         let (mut top, bot) = panel.rb_mut().split_at_row_mut(sw);

@@ -5,36 +5,57 @@
 //! factorisation is therefore reused as the **preconditioner of GMRES** on the current
 //! tangent ([`super::krylov`]) until it stops paying for itself:
 //!
-//! 1. GMRES on J (applied matrix-free by the system) preconditioned by the held Cholesky
-//!    factor, however old (an earlier iterate, an earlier step);
+//! 1. GMRES on J (applied matrix-free by the system) preconditioned by the held factor (a
+//!    Cholesky one: an LU is refreshed at every solve, `STALE_LU_ITERATIONS`), however old
+//!    (an earlier iterate of the step);
 //! 2. if it does not converge in `STALE_ITERATIONS` (or the last solve needed more than
-//!    `REFRESH_AFTER`): **refresh** — the Cholesky factorisation (faer, no allocation, symbolic
-//!    analysis kept while the pattern is unchanged) of the symmetric part the system
-//!    assembles: J without the unsymmetric friction coupling of sliding contacts
-//!    (∂t_S/∂g_N), which is symmetric positive definite; if J is symmetric this is J itself
-//!    and the solve is direct; otherwise GMRES converges in about as many iterations as
-//!    the coupling has independent directions that matter (few: a normal gap and a shear
-//!    force are nearly orthogonal in the flexibility of the blocks);
+//!    `REFRESH_AFTER`): **refresh**, on one symbolic analysis (our supernodal
+//!    factorisation, [`Cholesky`], no allocation, the analysis kept while the pattern is
+//!    unchanged):
+//!    * when at least `MIN_LU_PIECES` sliding contacts make J unsymmetric: the **LU without
+//!      pivoting of J** itself ([`Cholesky::factorize_lu_on`]: the same ordering,
+//!      supernodes and storage as the Cholesky factor, L and Uᵀ; a negative pivot is
+//!      accepted, a zero one is not), then GMRES preconditioned by it, which converges in
+//!      one iteration (two when the pattern leaves out small entries); if the LU meets a
+//!      zero pivot or GMRES does not converge in `FRESH_LU_ITERATIONS`, the step goes on
+//!      with the Cholesky factor below;
+//!    * else the **Cholesky** factorisation of the symmetric part the system assembles: J
+//!      without the unsymmetric friction coupling of sliding contacts (∂t_S/∂g_N), which
+//!      is symmetric positive definite; if J is symmetric this is J itself and the solve
+//!      is direct; otherwise GMRES converges in about as many iterations as the coupling
+//!      has independent directions that matter (2 with two sliding contacts, 10 with
+//!      hundreds);
 //! 3. if that fails too (a factorisation that is not positive definite, or GMRES that does
-//!    not converge): sparse **LU** of the full unsymmetric J (faer, COLAMD), a direct solve.
+//!    not converge): sparse **LU** with pivoting of the full unsymmetric J (faer, COLAMD),
+//!    a direct solve.
 //!
 //! A tangent whose pattern leaves out some small entries
 //! ([`TangentOperator::pattern_is_complete`]: a contact's rows of weight below 10⁻⁴,
-//! contact/set.rs `PRECONDITIONER_WEIGHT`) is never solved directly: its Cholesky factor (or
-//! LU) preconditions GMRES on the full tangent.
+//! contact/set.rs `PRECONDITIONER_WEIGHT`) is never solved directly: its factor
+//! preconditions GMRES on the full tangent.
 //!
-//! Why Cholesky and not LU: on the brick walls faer's LU was about 6× its Cholesky on the
-//! same matrix, and every tangent with one sliding contact is unsymmetric. Measured again
-//! where GMRES works hardest (2026-12-03, `examples/shaken_slope.toml` to 0.8 s of shaking,
-//! 922 unknowns, 17 GMRES iterations per solve on a fresh factor): LU for every unsymmetric
-//! tangent took 11.0 s of factorisations (3,478, 3.2 ms each) and 0.5 s of solves, against
-//! 2.9 s and 6.3 s with Cholesky and GMRES; the run 13.7 s against 11.3 s.
+//! Why the LU without pivoting (2026-12-04): the Cholesky factor of the symmetric part
+//! left ~10 GMRES iterations per solve on the brick walls and ~18 on the shaken slope
+//! example, each a pair of triangular solves and a product with J. faer's sparse LU was
+//! about 6× the Cholesky factorisation on the walls (its own ordering, pivoting and
+//! storage), ours about 2× (the same analysis; every update twice, L's and Uᵀ's). Whole
+//! runs, one thread, against the Cholesky factor alone (single runs): the shaken slope
+//! example 42.7 → 30.1 s (GMRES iterations 197,227 → 21,626; cut steps 23 → 17), the
+//! jointed slope example 10.1 → 7.1 s, the shaking-table slope 2.10 → 1.78 s; the 20×20
+//! and 40×40 walls' factorisation and solve 0.543 → 0.397 s and 1.730 → 1.566 s (minima of
+//! 3–5 alternated runs; GMRES iterations 603 → 122 and 400 → 106). Pivots: a pivot that
+//! is not positive refused the LU in 948 of 2,293 attempts on the shaken slope (its
+//! static settling and its sliding wedges make the symmetric part indefinite) and in
+//! every one on the static jointed slope; accepted, every LU succeeded and preconditioned
+//! GMRES to convergence in ~2 iterations.
 //!
-//! Measured and rejected as the preconditioner (same day, 20×20 wall, 12 steps): an SPD
+//! Measured and rejected as the preconditioner (2026-12-03, 20×20 wall, 12 steps): an SPD
 //! approximation of each sliding contact's unsymmetric 2×2 block instead of dropping its
 //! coupling — its symmetric part with the negative eigenvalue set to zero: 6,089 GMRES
 //! iterations and 44 LU fallbacks against 603; with the eigenvalue's absolute value: 2,557.
-//! The coupling is best left out of the factor entirely.
+//! faer's LU for every unsymmetric tangent on the shaken slope (to 0.8 s of shaking): 11.0 s
+//! of factorisations (3,478, 3.2 ms each) and 0.5 s of solves, against 2.9 s and 6.3 s with
+//! the Cholesky factor and GMRES.
 
 use super::cholesky::Cholesky;
 use super::krylov::Gmres;
@@ -55,6 +76,15 @@ pub trait TangentOperator {
     fn assemble(&mut self, values: &mut [f64], symmetric: bool);
     /// Whether A equals its symmetric part.
     fn is_symmetric(&self) -> bool;
+    /// How many pieces (contacts) make A unsymmetric: the rank of A less its symmetric
+    /// part, at most (0 if A is symmetric; by default unknown: `usize::MAX`).
+    fn unsymmetric_pieces(&self) -> usize {
+        if self.is_symmetric() {
+            0
+        } else {
+            usize::MAX
+        }
+    }
     /// The threads the solves may use (default: the calling thread only).
     fn threads(&self) -> crate::parallel::Threads {
         crate::parallel::Threads::default()
@@ -98,12 +128,33 @@ pub trait LinearSolver: Send {
 pub struct LinearStats {
     pub solves: usize,
     pub gmres_iterations: usize,
-    /// Cholesky factorisations (refreshes of the preconditioner).
+    /// Numeric factorisations of the tangent on our supernodal analysis (refreshes of the
+    /// preconditioner): Cholesky ones of its symmetric part and ...
     pub factorisations: usize,
+    /// ... among them, LU ones without pivoting of the whole unsymmetric tangent.
+    pub unsymmetric_factorisations: usize,
     pub symbolic_analyses: usize,
     pub lu_factorisations: usize,
     pub factorisation_time: Duration,
     pub solve_time: Duration,
+}
+
+impl std::ops::Sub for LinearStats {
+    type Output = LinearStats;
+    /// The counts and times since `o` (an earlier reading of the same solver).
+    fn sub(self, o: LinearStats) -> LinearStats {
+        LinearStats {
+            solves: self.solves - o.solves,
+            gmres_iterations: self.gmres_iterations - o.gmres_iterations,
+            factorisations: self.factorisations - o.factorisations,
+            unsymmetric_factorisations: self.unsymmetric_factorisations
+                - o.unsymmetric_factorisations,
+            symbolic_analyses: self.symbolic_analyses - o.symbolic_analyses,
+            lu_factorisations: self.lu_factorisations - o.lu_factorisations,
+            factorisation_time: self.factorisation_time - o.factorisation_time,
+            solve_time: self.solve_time - o.solve_time,
+        }
+    }
 }
 
 impl std::ops::AddAssign for LinearStats {
@@ -111,6 +162,7 @@ impl std::ops::AddAssign for LinearStats {
         self.solves += o.solves;
         self.gmres_iterations += o.gmres_iterations;
         self.factorisations += o.factorisations;
+        self.unsymmetric_factorisations += o.unsymmetric_factorisations;
         self.symbolic_analyses += o.symbolic_analyses;
         self.lu_factorisations += o.lu_factorisations;
         self.factorisation_time += o.factorisation_time;
@@ -139,6 +191,26 @@ const REFRESH_AFTER: usize = 3;
 /// Most GMRES iterations with a fresh preconditioner before falling back to LU.
 const FRESH_ITERATIONS: usize = 120;
 const RESTART: usize = 40;
+/// Whether an unsymmetric tangent is factorised whole (LU without pivoting).
+/// Fewest unsymmetric pieces (sliding contacts) for which the tangent is factorised whole
+/// (LU without pivoting) rather than by its symmetric part. With the symmetric part's
+/// factor GMRES needs more iterations the more contacts slide (on a fresh factor, the arch
+/// example: 2.2 with 2 sliding contacts, 4.3 with 4–15, 6.2 with 16–63; the 20×20 wall: 9.9
+/// with 256 or more), with the whole tangent's 1 to 2; the LU costs about two Cholesky
+/// factorisations. Measured (2026-12-04, one thread, single runs; threshold 1 / 8 / 16 /
+/// 32 / never): arch example 19.1 / 18.2 / 18.9 / 19.4 / 20.0 s (GMRES iterations 20,887 /
+/// 39,466 / 52,653 / 66,120 / 67,212), tunnel 24.2 / 22.3 / 22.0 / 22.9 / 22.5 s; the arch's
+/// one cut step at 1 and 16 moves with any change of rounding (0 at 8, 32 and never).
+const MIN_LU_PIECES: usize = 8;
+/// Most GMRES iterations with a fresh LU of the whole tangent before it is given up for the
+/// step (an exact factor needs one, two with a pattern that leaves out small entries).
+const FRESH_LU_ITERATIONS: usize = 12;
+/// Most GMRES iterations with a held LU before refreshing it: none. A factor of the last
+/// iterate's tangent, held across its active-set change, wasted its budget in 42 of 64
+/// solves of the 20×20 wall (12 steps): budget 3 took 255 GMRES iterations and 55
+/// factorisations, 0.458 s of factorisation and solve; none 122 and 64, 0.397 s (minima
+/// of 5 alternated runs; the 40×40 wall 1.742 and 1.566 s).
+const STALE_LU_ITERATIONS: usize = 0;
 
 /// The tangent solver (see the module docs). Keep one per simulation: its workspaces are
 /// reused across iterations and steps. Every decision it takes depends on iteration counts,
@@ -153,6 +225,9 @@ pub struct TangentSolver {
     matrix: Option<SparseMatrix>,
     /// Refresh before the next solve.
     refresh: bool,
+    /// The LU of the unsymmetric tangent failed in this step: the symmetric part's
+    /// Cholesky factor for the rest of it.
+    lu_refused: bool,
     pub stats: LinearStats,
 }
 
@@ -164,6 +239,7 @@ impl Default for TangentSolver {
             gmres: Gmres::new(RESTART),
             matrix: None,
             refresh: true,
+            lu_refused: false,
             stats: LinearStats::default(),
         }
     }
@@ -183,6 +259,7 @@ impl LinearSolver for TangentSolver {
     /// The next solve refreshes the factorisation.
     fn invalidate(&mut self) {
         self.refresh = true;
+        self.lu_refused = false;
     }
 
     fn stats(&self) -> LinearStats {
@@ -217,6 +294,23 @@ impl TangentSolver {
         let m = self.matrix.as_mut().expect("matrix");
         m.values.iter_mut().for_each(|v| *v = 0.0);
         Ok(m)
+    }
+
+    /// Refresh with the LU without pivoting of the whole (unsymmetric) tangent, on the
+    /// Cholesky factor's analysis ([`Cholesky::factorize_lu_on`]).
+    fn refresh_lu(&mut self, op: &mut dyn TangentOperator) -> Result<(), SolveError> {
+        let t = Instant::now();
+        let before = self.chol.symbolic_count;
+        let m = self.matrix_for(op)?;
+        op.assemble(&mut m.values, false);
+        let m = self.matrix.as_ref().expect("matrix");
+        let r = self.chol.factorize_lu_on(m, &op.threads());
+        self.stats.factorisation_time += t.elapsed();
+        self.stats.factorisations += 1;
+        self.stats.unsymmetric_factorisations += 1;
+        self.stats.symbolic_analyses += self.chol.symbolic_count - before;
+        self.refresh = false;
+        r
     }
 
     fn refresh_cholesky(&mut self, op: &mut dyn TangentOperator) -> Result<(), SolveError> {
@@ -290,13 +384,33 @@ impl TangentSolver {
         self.stats.solves += 1;
         let rtol = rtol.max(1e-14);
         // 1. the held factorisation as a preconditioner
+        let stale = if self.chol.holds_lu() {
+            STALE_LU_ITERATIONS
+        } else {
+            STALE_ITERATIONS
+        };
         if !self.refresh
+            && stale > 0
             && self.chol.is_valid()
-            && self.gmres(op, rhs, x, rtol, STALE_ITERATIONS, false)?
+            && self.gmres(op, rhs, x, rtol, stale, false)?
         {
             return Ok(());
         }
-        // 2. refresh
+        // 2. refresh: the LU of a tangent that enough sliding contacts make unsymmetric,
+        // else (or if that fails) the Cholesky factor of its symmetric part
+        if !self.lu_refused && op.unsymmetric_pieces() >= MIN_LU_PIECES {
+            let r = match self.refresh_lu(op) {
+                Ok(()) => self.gmres(op, rhs, x, rtol, FRESH_LU_ITERATIONS, false),
+                Err(e) => Err(e),
+            };
+            match r {
+                Ok(true) => return Ok(()),
+                Err(SolveError::OutOfMemory) => return Err(SolveError::OutOfMemory),
+                // a zero pivot, a solve that is not finite, GMRES that did not converge:
+                // the symmetric part's factor, for the rest of the step
+                Ok(false) | Err(_) => self.lu_refused = true,
+            }
+        }
         match self.refresh_cholesky(op) {
             Ok(()) => {
                 if op.is_symmetric() && op.pattern_is_complete() {

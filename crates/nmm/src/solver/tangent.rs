@@ -209,7 +209,11 @@ const FRESH_LU_ITERATIONS: usize = 12;
 /// iterate's tangent, held across its active-set change, wasted its budget in 42 of 64
 /// solves of the 20×20 wall (12 steps): budget 3 took 255 GMRES iterations and 55
 /// factorisations, 0.458 s of factorisation and solve; none 122 and 64, 0.397 s (minima
-/// of 5 alternated runs; the 40×40 wall 1.742 and 1.566 s).
+/// of 5 alternated runs; the 40×40 wall 1.742 and 1.566 s). Measured and rejected: trying
+/// a held LU only when at most 2 pieces had changed branch since it was made (with 2c + 2
+/// iterations for c changes) saved 8 of 64 factorisations on the 20×20 wall (GMRES 122 →
+/// 127), but the shaken slope at 0.25 / 0.3 / 0.35 g cut 32 / 30 / 34 steps against 15 /
+/// 21 / 33 (single runs of a chaotic problem).
 const STALE_LU_ITERATIONS: usize = 0;
 
 /// The tangent solver (see the module docs). Keep one per simulation: its workspaces are

@@ -401,17 +401,11 @@ impl Cholesky {
         a: &SparseMatrix,
         threads: &crate::parallel::Threads,
     ) -> Result<(), SolveError> {
-        self.valid = false;
-        self.lu_held = false;
-        self.analyse_for(&a.pattern)?;
+        self.start_numeric(&a.pattern)?;
         let s = self.symbolic.as_ref().expect("symbolic analysis");
         match (&self.plan, s.raw()) {
             (Some(plan), SymbolicCholeskyRaw::Supernodal(sn)) => {
-                // A's entries placed in the factor's values, the fill zero
-                self.values.iter_mut().for_each(|v| *v = 0.0);
-                for (&t, &k) in plan.place.iter().zip(&self.gather) {
-                    self.values[t] = a.values[k as usize];
-                }
+                place_lower(&mut self.values, plan, &self.gather, a);
                 super::supernodal::factorize(
                     sn,
                     plan,
@@ -442,9 +436,7 @@ impl Cholesky {
         a: &SparseMatrix,
         threads: &crate::parallel::Threads,
     ) -> Result<(), SolveError> {
-        self.valid = false;
-        self.lu_held = false;
-        self.analyse_for(&a.pattern)?;
+        self.start_numeric(&a.pattern)?;
         let s = self.symbolic.as_ref().expect("symbolic analysis");
         let (Some(plan), SymbolicCholeskyRaw::Supernodal(sn)) = (&self.plan, s.raw()) else {
             return Err(SolveError::Other("no supernodal analysis".into()));
@@ -479,9 +471,10 @@ impl Cholesky {
                     self.mirror.push((k, usize::MAX));
                     continue;
                 }
-                let m = p
-                    .slot(original[j], original[i])
-                    .expect("a symmetric pattern") as u32;
+                let Some(m) = p.slot(original[j], original[i]) else {
+                    return Err(SolveError::Other("an unsymmetric pattern".into()));
+                };
+                let m = m as u32;
                 let sj = sn_of[j];
                 let place = if i < end[sj] {
                     // both in j's supernode: its diagonal block's upper part, in L's values
@@ -496,11 +489,8 @@ impl Cholesky {
         if self.upper.len() != len {
             try_zeroed(&mut self.upper, len)?;
         }
-        self.values.iter_mut().for_each(|v| *v = 0.0);
+        place_lower(&mut self.values, plan, &self.gather, a);
         self.upper.iter_mut().for_each(|v| *v = 0.0);
-        for (&t, &k) in plan.place.iter().zip(&self.gather) {
-            self.values[t] = a.values[k as usize];
-        }
         for &(m, place) in &self.mirror {
             if place == usize::MAX {
                 continue;
@@ -525,6 +515,14 @@ impl Cholesky {
         self.lu_held = true;
         self.valid = true;
         Ok(())
+    }
+
+    /// Forget the held numeric factorisation; the symbolic analysis of `pattern`, unless
+    /// the held one is of the same pattern.
+    fn start_numeric(&mut self, pattern: &Arc<SparsePattern>) -> Result<(), SolveError> {
+        self.valid = false;
+        self.lu_held = false;
+        self.analyse_for(pattern)
     }
 
     /// The symbolic analysis of `pattern`, unless the held one is of the same pattern.
@@ -646,6 +644,15 @@ impl Cholesky {
         } else {
             Err(SolveError::Singular)
         }
+    }
+}
+
+/// A's entries of the lower triangle of P A Pᵀ (the slots of A in `gather`) placed in the
+/// factor's `values` (at `plan.place`), the rest (the fill) zero.
+fn place_lower(values: &mut [f64], plan: &FactorPlan, gather: &[u32], a: &SparseMatrix) {
+    values.iter_mut().for_each(|v| *v = 0.0);
+    for (&t, &k) in plan.place.iter().zip(gather) {
+        values[t] = a.values[k as usize];
     }
 }
 

@@ -300,39 +300,28 @@ impl TangentSolver {
         Ok(m)
     }
 
-    /// Refresh with the LU without pivoting of the whole (unsymmetric) tangent, on the
-    /// Cholesky factor's analysis ([`Cholesky::factorize_lu_on`]).
-    fn refresh_lu(&mut self, op: &mut dyn TangentOperator) -> Result<(), SolveError> {
+    /// Refresh the held factor: with `lu` the LU without pivoting of the whole (unsymmetric)
+    /// tangent ([`Cholesky::factorize_lu_on`]), else the Cholesky factor of its symmetric
+    /// part; both on the same symbolic analysis.
+    fn refresh(&mut self, op: &mut dyn TangentOperator, lu: bool) -> Result<(), SolveError> {
         let t = Instant::now();
         let before = self.chol.symbolic_count;
         let m = self.matrix_for(op)?;
-        op.assemble(&mut m.values, false);
+        op.assemble(&mut m.values, !lu);
         let m = self.matrix.as_ref().expect("matrix");
-        let r = self.chol.factorize_lu_on(m, &op.threads());
+        let r = match lu {
+            true => self.chol.factorize_lu_on(m, &op.threads()),
+            false => self.chol.factorize_on(m, &op.threads()),
+        };
         self.stats.factorisation_time += t.elapsed();
         self.stats.factorisations += 1;
-        self.stats.unsymmetric_factorisations += 1;
+        self.stats.unsymmetric_factorisations += usize::from(lu);
         self.stats.symbolic_analyses += self.chol.symbolic_count - before;
         self.refresh = false;
         r
     }
 
-    fn refresh_cholesky(&mut self, op: &mut dyn TangentOperator) -> Result<(), SolveError> {
-        let t = Instant::now();
-        let before = self.chol.symbolic_count;
-        let m = self.matrix_for(op)?;
-        op.assemble(&mut m.values, true);
-        let m = self.matrix.as_ref().expect("matrix");
-        let r = self.chol.factorize_on(m, &op.threads());
-        let dt = t.elapsed();
-        self.stats.factorisation_time += dt;
-        self.stats.factorisations += 1;
-        self.stats.symbolic_analyses += self.chol.symbolic_count - before;
-        self.refresh = false;
-        r
-    }
-
-    /// GMRES on `op` preconditioned by the held Cholesky factor, or by the held LU (`lu`).
+    /// GMRES on `op` preconditioned by the held factor (ours), or by faer's held LU (`lu`).
     fn gmres(
         &mut self,
         op: &dyn TangentOperator,
@@ -403,7 +392,7 @@ impl TangentSolver {
         // 2. refresh: the LU of a tangent that enough sliding contacts make unsymmetric,
         // else (or if that fails) the Cholesky factor of its symmetric part
         if !self.lu_refused && op.unsymmetric_pieces() >= MIN_LU_PIECES {
-            let r = match self.refresh_lu(op) {
+            let r = match self.refresh(op, true) {
                 Ok(()) => self.gmres(op, rhs, x, rtol, FRESH_LU_ITERATIONS, false),
                 Err(e) => Err(e),
             };
@@ -415,7 +404,7 @@ impl TangentSolver {
                 Ok(false) | Err(_) => self.lu_refused = true,
             }
         }
-        match self.refresh_cholesky(op) {
+        match self.refresh(op, false) {
             Ok(()) => {
                 if op.is_symmetric() && op.pattern_is_complete() {
                     let t = Instant::now();

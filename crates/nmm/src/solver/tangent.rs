@@ -39,15 +39,16 @@
 //! example, each a pair of triangular solves and a product with J. faer's sparse LU was
 //! about 6× the Cholesky factorisation on the walls (its own ordering, pivoting and
 //! storage), ours about 2× (the same analysis; every update twice, L's and Uᵀ's). Whole
-//! runs, one thread, against the Cholesky factor alone (single runs): the shaken slope
-//! example 42.7 → 30.1 s (GMRES iterations 197,227 → 21,626; cut steps 23 → 17), the
-//! jointed slope example 10.1 → 7.1 s, the shaking-table slope 2.10 → 1.78 s; the 20×20
-//! and 40×40 walls' factorisation and solve 0.543 → 0.397 s and 1.730 → 1.566 s (minima of
-//! 3–5 alternated runs; GMRES iterations 603 → 122 and 400 → 106). Pivots: a pivot that
-//! is not positive refused the LU in 948 of 2,293 attempts on the shaken slope (its
-//! static settling and its sliding wedges make the symmetric part indefinite) and in
-//! every one on the static jointed slope; accepted, every LU succeeded and preconditioned
-//! GMRES to convergence in ~2 iterations.
+//! runs, one thread, alternated with the Cholesky factor alone (single runs): the shaken
+//! slope example 33.1 → 21.0 s (GMRES iterations 197,227 → 25,273; cut steps 23 → 21; at
+//! 0.25 / 0.35 g 22 → 15 and 49 → 33), the jointed slope example 10.7 → 7.2 s, the tunnel
+//! 22.7 → 21.5 s, the arch example 18.8 → 18.4 s, the shaking-table slope 1.71 → 1.74 s;
+//! the 20×20 and 40×40 walls' factorisation and solve 0.543 → 0.397 s and 1.730 → 1.566 s
+//! (minima of 3–5 alternated runs; GMRES iterations 603 → 122 and 400 → 106). Pivots:
+//! a pivot that is not positive refused the LU in 948 of 2,293 attempts on the shaken
+//! slope (its static settling and its sliding wedges make the symmetric part indefinite)
+//! and in every one on the static jointed slope; accepted, every LU succeeded and
+//! preconditioned GMRES to convergence in ~2 iterations.
 //!
 //! Measured and rejected as the preconditioner (2026-12-03, 20×20 wall, 12 steps): an SPD
 //! approximation of each sliding contact's unsymmetric 2×2 block instead of dropping its
@@ -191,7 +192,6 @@ const REFRESH_AFTER: usize = 3;
 /// Most GMRES iterations with a fresh preconditioner before falling back to LU.
 const FRESH_ITERATIONS: usize = 120;
 const RESTART: usize = 40;
-/// Whether an unsymmetric tangent is factorised whole (LU without pivoting).
 /// Fewest unsymmetric pieces (sliding contacts) for which the tangent is factorised whole
 /// (LU without pivoting) rather than by its symmetric part. With the symmetric part's
 /// factor GMRES needs more iterations the more contacts slide (on a fresh factor, the arch

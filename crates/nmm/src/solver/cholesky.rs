@@ -93,7 +93,7 @@
 use super::dot;
 use super::linear::SolveError;
 use super::sparse::{SparseMatrix, SparsePattern};
-use super::supernodal::{FactorPlan, FactorWork};
+use super::supernodal::{FactorPlan, FactorWork, Schedule};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::{matmul, triangular_solve};
 use faer::reborrow::{Reborrow, ReborrowMut};
@@ -148,6 +148,14 @@ pub struct Cholesky {
     mirror: Vec<(u32, usize)>,
     /// The held numeric factorisation is an LU (`values` and `upper`), not a Cholesky one.
     lu_held: bool,
+    /// The values of the A the held factor is of ([`Cholesky::mark_redo`]) ...
+    previous: Vec<f64>,
+    /// ... the supernodes to factorise again (their A changed, or a descendant's) ...
+    redo: Vec<bool>,
+    /// ... each supernode's parent in the elimination tree (`usize::MAX`: a root) and the
+    /// supernode of each column of the factor (made with the analysis).
+    parent: Vec<usize>,
+    sn_of: Vec<usize>,
     /// A numeric factorisation is held.
     valid: bool,
     /// Symbolic analyses done.
@@ -368,7 +376,21 @@ impl Cholesky {
             }
         }
         self.plan = None;
+        self.previous.clear();
         if let SymbolicCholeskyRaw::Supernodal(sn) = s.raw() {
+            self.sn_of = supernode_of(sn)?;
+            let ns = sn.n_supernodes();
+            try_zeroed(&mut self.redo, ns)?;
+            self.parent.clear();
+            self.parent
+                .try_reserve_exact(ns)
+                .map_err(|_| SolveError::OutOfMemory)?;
+            self.parent.extend((0..ns).map(|k| {
+                sn.supernode(k)
+                    .pattern()
+                    .first()
+                    .map_or(usize::MAX, |&r| self.sn_of[r])
+            }));
             let plan = FactorPlan::new(sn, &lower_ptr, &lower_rows)?;
             let parts = if self.split.is_some() { 2 } else { 1 };
             for w in &mut self.part_work[..parts] {
@@ -401,15 +423,31 @@ impl Cholesky {
         a: &SparseMatrix,
         threads: &crate::parallel::Threads,
     ) -> Result<(), SolveError> {
-        self.start_numeric(&a.pattern)?;
+        let update = self.start_numeric(&a.pattern, false)?;
+        if self.plan.is_some() {
+            self.mark_redo(a, update)?;
+        }
         let s = self.symbolic.as_ref().expect("symbolic analysis");
         match (&self.plan, s.raw()) {
             (Some(plan), SymbolicCholeskyRaw::Supernodal(sn)) => {
-                place_lower(&mut self.values, plan, &self.gather, a);
+                place_lower(
+                    &mut self.values,
+                    Placing {
+                        sn,
+                        plan,
+                        gather: &self.gather,
+                        columns: &self.lower_col_ptr,
+                        redo: &self.redo,
+                    },
+                    a,
+                );
                 super::supernodal::factorize(
                     sn,
                     plan,
-                    self.split.as_ref(),
+                    Schedule {
+                        split: self.split.as_ref(),
+                        redo: &self.redo,
+                    },
                     &mut self.values,
                     &mut self.part_work,
                     threads,
@@ -436,7 +474,11 @@ impl Cholesky {
         a: &SparseMatrix,
         threads: &crate::parallel::Threads,
     ) -> Result<(), SolveError> {
-        self.start_numeric(&a.pattern)?;
+        let update = self.start_numeric(&a.pattern, true)?;
+        if self.plan.is_none() {
+            return Err(SolveError::Other("no supernodal analysis".into()));
+        }
+        self.mark_redo(a, update)?;
         let s = self.symbolic.as_ref().expect("symbolic analysis");
         let (Some(plan), SymbolicCholeskyRaw::Supernodal(sn)) = (&self.plan, s.raw()) else {
             return Err(SolveError::Other("no supernodal analysis".into()));
@@ -489,23 +531,40 @@ impl Cholesky {
         if self.upper.len() != len {
             try_zeroed(&mut self.upper, len)?;
         }
-        place_lower(&mut self.values, plan, &self.gather, a);
-        self.upper.iter_mut().for_each(|v| *v = 0.0);
-        for &(m, place) in &self.mirror {
-            if place == usize::MAX {
-                continue;
-            }
-            let v = a.values[m as usize];
-            if place < len {
-                self.values[place] = v;
-            } else {
-                self.upper[place - len] = v;
+        let placing = Placing {
+            sn,
+            plan,
+            gather: &self.gather,
+            columns: &self.lower_col_ptr,
+            redo: &self.redo,
+        };
+        place_lower(&mut self.values, placing, a);
+        let (_, _, val_ptr) = layout(sn);
+        for (s, _) in self.redo.iter().enumerate().filter(|r| *r.1) {
+            self.upper[val_ptr[s]..val_ptr[s + 1]]
+                .iter_mut()
+                .for_each(|v| *v = 0.0);
+            let (begin, end) = (sn.supernode_begin()[s], sn.supernode_end()[s]);
+            let slots = self.lower_col_ptr[begin]..self.lower_col_ptr[end];
+            for &(m, place) in &self.mirror[slots] {
+                if place == usize::MAX {
+                    continue;
+                }
+                let v = a.values[m as usize];
+                if place < len {
+                    self.values[place] = v;
+                } else {
+                    self.upper[place - len] = v;
+                }
             }
         }
         super::supernodal::factorize_lu(
             sn,
             plan,
-            self.split.as_ref(),
+            Schedule {
+                split: self.split.as_ref(),
+                redo: &self.redo,
+            },
             &mut self.values,
             &mut self.upper,
             &mut self.part_work,
@@ -518,11 +577,53 @@ impl Cholesky {
     }
 
     /// Forget the held numeric factorisation; the symbolic analysis of `pattern`, unless
-    /// the held one is of the same pattern.
-    fn start_numeric(&mut self, pattern: &Arc<SparsePattern>) -> Result<(), SolveError> {
+    /// the held one is of the same pattern. Returns whether the held factor may be updated
+    /// rather than made anew (a valid one of the same kind, `lu`, on the same analysis).
+    fn start_numeric(
+        &mut self,
+        pattern: &Arc<SparsePattern>,
+        lu: bool,
+    ) -> Result<bool, SolveError> {
+        let held = self.valid && self.lu_held == lu;
+        let analyses = self.symbolic_count;
         self.valid = false;
         self.lu_held = false;
-        self.analyse_for(pattern)
+        self.analyse_for(pattern)?;
+        Ok(held && self.symbolic_count == analyses)
+    }
+
+    /// The supernodes to factorise (`redo`): with `update`, those with a column (of P A
+    /// Pᵀ, either triangle) where `a` differs from the A of the held factor, and their
+    /// ancestors; else all. A supernode's factor depends only on its own columns of A and
+    /// on its descendants' factors, so the others' are what a factorisation from scratch
+    /// would compute, bit for bit: a Newton iteration whose contacts changed branch in one
+    /// corner of a wall factorises that corner's supernodes and the separators above
+    /// them, not the wall.
+    fn mark_redo(&mut self, a: &SparseMatrix, update: bool) -> Result<(), SolveError> {
+        let update = update && self.previous.len() == a.values.len();
+        self.redo.iter_mut().for_each(|r| *r = !update);
+        if update {
+            let p = &a.pattern;
+            for c in 0..p.n {
+                let j = self.inv[c];
+                for k in p.col_ptr[c]..p.col_ptr[c + 1] {
+                    if a.values[k].to_bits() != self.previous[k].to_bits() {
+                        let i = self.inv[p.row_idx[k]];
+                        self.redo[self.sn_of[i.min(j)]] = true;
+                    }
+                }
+            }
+            // ancestors after descendants: one pass
+            for s in 0..self.redo.len() {
+                if self.redo[s] && self.parent[s] != usize::MAX {
+                    self.redo[self.parent[s]] = true;
+                }
+            }
+        } else if self.previous.len() != a.values.len() {
+            try_zeroed(&mut self.previous, a.values.len())?;
+        }
+        self.previous.copy_from_slice(&a.values);
+        Ok(())
     }
 
     /// The symbolic analysis of `pattern`, unless the held one is of the same pattern.
@@ -647,12 +748,31 @@ impl Cholesky {
     }
 }
 
-/// A's entries of the lower triangle of P A Pᵀ (the slots of A in `gather`) placed in the
-/// factor's `values` (at `plan.place`), the rest (the fill) zero.
-fn place_lower(values: &mut [f64], plan: &FactorPlan, gather: &[u32], a: &SparseMatrix) {
-    values.iter_mut().for_each(|v| *v = 0.0);
-    for (&t, &k) in plan.place.iter().zip(gather) {
-        values[t] = a.values[k as usize];
+/// Where A's entries go in a factor (see [`place_lower`]).
+#[derive(Clone, Copy)]
+struct Placing<'a> {
+    sn: &'a SupernodalSymbolic,
+    plan: &'a FactorPlan,
+    /// The slot of A of each entry of the lower triangle of P A Pᵀ ...
+    gather: &'a [u32],
+    /// ... whose column j holds the entries `columns[j]..columns[j + 1]`.
+    columns: &'a [usize],
+    /// The supernodes to place.
+    redo: &'a [bool],
+}
+
+/// A's entries of the lower triangle of P A Pᵀ placed in the factor's `values` (at
+/// `plan.place`), the rest (the fill) zero, in the supernodes `redo` marks.
+fn place_lower(values: &mut [f64], at: Placing, a: &SparseMatrix) {
+    let (begin, end, val_ptr) = layout(at.sn);
+    for (s, _) in at.redo.iter().enumerate().filter(|r| *r.1) {
+        values[val_ptr[s]..val_ptr[s + 1]]
+            .iter_mut()
+            .for_each(|v| *v = 0.0);
+        let slots = at.columns[begin[s]]..at.columns[end[s]];
+        for (&t, &k) in at.plan.place[slots.clone()].iter().zip(&at.gather[slots]) {
+            values[t] = a.values[k as usize];
+        }
     }
 }
 
@@ -1320,6 +1440,76 @@ mod solve_tests {
             }
             c.factorize_on(&sym, &two).unwrap();
             assert!(solve_residual(&mut c, &sym, &b) < 1e-11);
+        }
+    }
+
+    /// A held factor updated supernode by supernode (`mark_redo`: the supernodes whose A
+    /// changed and their ancestors) is the factor made from scratch, bit for bit: Cholesky
+    /// and LU, narrow and wide supernodes, a split factor on one thread and two; a change
+    /// in one corner redoes a part of the supernodes only, a change of kind (Cholesky after
+    /// LU) or an invalidated factor all of them.
+    #[test]
+    fn an_updated_factor_is_the_factor_made_anew() {
+        let two = crate::parallel::Threads::new(2).unwrap();
+        for (nx, ny, dofs) in [(12, 9, 2), (6, 5, 24), (90, 60, 2)] {
+            let a = block_grid(nx, ny, dofs);
+            let p = a.pattern.clone();
+            let mut unsym = a.clone();
+            for c in 0..a.n() {
+                for k in p.col_ptr[c]..p.col_ptr[c + 1] {
+                    if p.row_idx[k] != c {
+                        unsym.values[k] += (((p.row_idx[k] * 3 + c * 5) % 7) as f64 - 3.0) / 60.0;
+                    }
+                }
+            }
+            // the first unknown's coupling to its neighbour (symmetric: the Cholesky
+            // factor reads one triangle) and its diagonal
+            let changed = |m: &SparseMatrix| {
+                let mut m = m.clone();
+                for (r, c, dv) in [(0, 0, 0.5), (0, 1, 0.01), (1, 0, 0.01)] {
+                    if let Some(k) = p.slot(r, c) {
+                        m.values[k] += dv;
+                    }
+                }
+                m
+            };
+            for th in [&crate::parallel::Threads::default(), &two] {
+                for lu in [false, true] {
+                    let (m0, m1) = if lu {
+                        (unsym.clone(), changed(&unsym))
+                    } else {
+                        (a.clone(), changed(&a))
+                    };
+                    let factorize = |c: &mut Cholesky, m: &SparseMatrix| match lu {
+                        true => c.factorize_lu_on(m, th).unwrap(),
+                        false => c.factorize_on(m, th).unwrap(),
+                    };
+                    let mut held = Cholesky::default();
+                    factorize(&mut held, &m0);
+                    assert!(held.redo.iter().all(|&r| r));
+                    factorize(&mut held, &m1);
+                    let redone = held.redo.iter().filter(|&&r| r).count();
+                    assert!(redone >= 1 && redone < held.redo.len(), "{redone}");
+                    let mut fresh = Cholesky::default();
+                    factorize(&mut fresh, &m1);
+                    assert_eq!(held.values, fresh.values, "{nx}x{ny}x{dofs} lu {lu}");
+                    assert_eq!(held.upper, fresh.upper, "{nx}x{ny}x{dofs} lu {lu}");
+                    let b: Vec<f64> = (0..a.n()).map(|i| (i as f64 * 0.7).sin()).collect();
+                    assert!(solve_residual(&mut held, &m1, &b) < 1e-10);
+                    // the same matrix again: nothing to redo
+                    factorize(&mut held, &m1);
+                    assert!(held.redo.iter().all(|&r| !r));
+                    assert_eq!(held.values, fresh.values);
+                    // invalidated, or of the other kind: made anew
+                    held.invalidate();
+                    factorize(&mut held, &m0);
+                    assert!(held.redo.iter().all(|&r| r));
+                }
+                let mut c = Cholesky::default();
+                c.factorize_lu_on(&unsym, th).unwrap();
+                c.factorize_on(&a, th).unwrap();
+                assert!(c.redo.iter().all(|&r| r));
+            }
         }
     }
 

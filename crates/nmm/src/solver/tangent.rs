@@ -264,6 +264,8 @@ impl LinearSolver for TangentSolver {
     fn invalidate(&mut self) {
         self.refresh = true;
         self.lu_refused = false;
+        // (and no update of the held factor: every value of a new step's tangent differs)
+        self.chol.invalidate();
     }
 
     fn stats(&self) -> LinearStats {

@@ -362,9 +362,25 @@ impl Cholesky {
             SymbolicCholeskyRaw::Simplicial(_) => 0,
         };
         try_zeroed(&mut self.below, widest_below)?;
+        // the supernodal elimination tree: each column's supernode, each supernode's parent
+        self.sn_of.clear();
+        self.parent.clear();
+        if let SymbolicCholeskyRaw::Supernodal(sn) = s.raw() {
+            self.sn_of = supernode_of(sn)?;
+            let ns = sn.n_supernodes();
+            self.parent
+                .try_reserve_exact(ns)
+                .map_err(|_| SolveError::OutOfMemory)?;
+            self.parent.extend((0..ns).map(|k| {
+                sn.supernode(k)
+                    .pattern()
+                    .first()
+                    .map_or(usize::MAX, |&r| self.sn_of[r])
+            }));
+        }
         self.split = match s.raw() {
             SymbolicCholeskyRaw::Supernodal(sn) if s.len_val() >= MIN_SPLIT_VALUES => {
-                split_tree(sn)
+                split_tree(sn, &self.parent)
             }
             _ => None,
         };
@@ -378,20 +394,8 @@ impl Cholesky {
         self.plan = None;
         self.previous.clear();
         if let SymbolicCholeskyRaw::Supernodal(sn) = s.raw() {
-            self.sn_of = supernode_of(sn)?;
-            let ns = sn.n_supernodes();
-            try_zeroed(&mut self.redo, ns)?;
-            self.parent.clear();
-            self.parent
-                .try_reserve_exact(ns)
-                .map_err(|_| SolveError::OutOfMemory)?;
-            self.parent.extend((0..ns).map(|k| {
-                sn.supernode(k)
-                    .pattern()
-                    .first()
-                    .map_or(usize::MAX, |&r| self.sn_of[r])
-            }));
-            let plan = FactorPlan::new(sn, &lower_ptr, &lower_rows)?;
+            try_zeroed(&mut self.redo, sn.n_supernodes())?;
+            let plan = FactorPlan::new(sn, &self.sn_of, &lower_ptr, &lower_rows)?;
             let parts = if self.split.is_some() { 2 } else { 1 };
             for w in &mut self.part_work[..parts] {
                 plan.prepare(&mut w.factor, n)?;
@@ -488,44 +492,37 @@ impl Cholesky {
             // the transposed entries' slots and places (once per analysis)
             let p = &a.pattern;
             let (begin, end, val_ptr) = layout(sn);
-            let sn_of = supernode_of(sn)?;
             self.mirror.clear();
             self.mirror
                 .try_reserve_exact(self.gather.len())
                 .map_err(|_| SolveError::OutOfMemory)?;
-            // the factor's column and row of each lower slot: column j holds slots
-            // lower_col_ptr[j]..lower_col_ptr[j + 1], rows lower_row_idx
-            let mut col_of = Vec::new();
-            try_zeroed(&mut col_of, self.gather.len())?;
-            for j in 0..p.n {
-                for c in &mut col_of[self.lower_col_ptr[j]..self.lower_col_ptr[j + 1]] {
-                    *c = j;
-                }
-            }
             let mut original = Vec::new();
             try_zeroed(&mut original, p.n)?;
             for (o, &i) in self.inv.iter().enumerate() {
                 original[i] = o;
             }
-            for (t, (&k, &i)) in self.gather.iter().zip(&self.lower_row_idx).enumerate() {
-                let j = col_of[t];
-                if i == j {
-                    self.mirror.push((k, usize::MAX));
-                    continue;
+            // column j of the lower triangle holds slots lower_col_ptr[j]..[j + 1]
+            for j in 0..p.n {
+                let sj = self.sn_of[j];
+                for t in self.lower_col_ptr[j]..self.lower_col_ptr[j + 1] {
+                    let (k, i) = (self.gather[t], self.lower_row_idx[t]);
+                    if i == j {
+                        self.mirror.push((k, usize::MAX));
+                        continue;
+                    }
+                    let Some(m) = p.slot(original[j], original[i]) else {
+                        return Err(SolveError::Other("an unsymmetric pattern".into()));
+                    };
+                    let place = if i < end[sj] {
+                        // both in j's supernode: the upper part of its diagonal
+                        // block, in L's values
+                        let rows = (val_ptr[sj + 1] - val_ptr[sj]) / (end[sj] - begin[sj]);
+                        val_ptr[sj] + (i - begin[sj]) * rows + (j - begin[sj])
+                    } else {
+                        len + plan.place[t]
+                    };
+                    self.mirror.push((m as u32, place));
                 }
-                let Some(m) = p.slot(original[j], original[i]) else {
-                    return Err(SolveError::Other("an unsymmetric pattern".into()));
-                };
-                let m = m as u32;
-                let sj = sn_of[j];
-                let place = if i < end[sj] {
-                    // both in j's supernode: its diagonal block's upper part, in L's values
-                    let rows = (val_ptr[sj + 1] - val_ptr[sj]) / (end[sj] - begin[sj]);
-                    val_ptr[sj] + (i - begin[sj]) * rows + (j - begin[sj])
-                } else {
-                    len + plan.place[t]
-                };
-                self.mirror.push((m, place));
             }
         }
         if self.upper.len() != len {
@@ -956,14 +953,15 @@ pub(super) fn supernode_of(sn: &SupernodalSymbolic) -> Result<Vec<usize>, SolveE
 /// about 10%: from the roots, the heaviest subtree is moved to the top (its children become
 /// candidates) until the candidates share out evenly (largest first, to the lighter part).
 /// `None` if the top would hold more than [`SPLIT_TOP_SHARE`] of the values (or the tree is
-/// a chain). Depends only on the symbolic analysis.
-fn split_tree(sn: &SupernodalSymbolic) -> Option<Split> {
+/// a chain). Depends only on the symbolic analysis (`parent`: each supernode's parent,
+/// `usize::MAX` for a root).
+fn split_tree(sn: &SupernodalSymbolic, parent: &[usize]) -> Option<Split> {
     let ns = sn.n_supernodes();
     let (begin, end, val_ptr) = layout(sn);
     let n = end.last().copied().unwrap_or(0);
-    let sn_of = supernode_of(sn).ok()?;
-    let parent: Vec<Option<usize>> = (0..ns)
-        .map(|k| sn.supernode(k).pattern().first().map(|&r| sn_of[r]))
+    let parent: Vec<Option<usize>> = parent
+        .iter()
+        .map(|&p| (p != usize::MAX).then_some(p))
         .collect();
     let mut children = vec![Vec::new(); ns];
     let mut work: Vec<f64> = (0..ns)

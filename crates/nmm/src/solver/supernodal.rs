@@ -34,7 +34,7 @@
 //! and a triangular solve.
 
 use super::cholesky::{
-    layout, on_both, supernode_of, try_zeroed, PartWork, Split, SupernodalSymbolic, WIDE_SUPERNODE,
+    layout, on_both, try_zeroed, PartWork, Split, SupernodalSymbolic, WIDE_SUPERNODE,
 };
 use super::linear::SolveError;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -81,16 +81,17 @@ pub(super) struct FactorWork {
 
 impl FactorPlan {
     /// The plan for `sn`, the supernodal analysis of the lower triangle (`lower_ptr`,
-    /// `lower_rows`: column pointers and rows) of P A Pᵀ.
+    /// `lower_rows`: column pointers and rows) of P A Pᵀ, whose column j is in supernode
+    /// `sn_of[j]`.
     pub fn new(
         sn: &SupernodalSymbolic,
+        sn_of: &[usize],
         lower_ptr: &[usize],
         lower_rows: &[usize],
     ) -> Result<FactorPlan, SolveError> {
         let ns = sn.n_supernodes();
         let (begin, end, val_ptr) = layout(sn);
         let n = end.last().copied().unwrap_or(0);
-        let sn_of = supernode_of(sn)?;
         // the entries' places: column j of supernode s, row i at its local row
         let mut place = Vec::new();
         try_zeroed(&mut place, lower_rows.len())?;

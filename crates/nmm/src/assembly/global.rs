@@ -38,6 +38,34 @@ pub fn scatter(values: &mut [f64], slots: &[u32], local: &[f64]) {
     }
 }
 
+/// No place in a group's key ([`scatter_through`]).
+pub const NO_PLACE: u8 = u8::MAX;
+
+/// values[slots] += local for a block over unknowns that are a part of a group's: `places`
+/// gives each of the block's unknowns its place in the group (or [`NO_PLACE`]: skipped),
+/// `slots` the group's slots (m² row-major, m = `places.len()`, as [`group_slots`]). Groups
+/// shared by several blocks (contacts between the same two elements) keep one set of slots.
+#[inline]
+pub fn scatter_through(values: &mut [f64], slots: &[u32], places: &[u8], local: &[f64]) {
+    let m = places.len();
+    for (i, &pi) in places.iter().enumerate() {
+        if pi == NO_PLACE {
+            continue;
+        }
+        let row = &slots[pi as usize * m..(pi as usize + 1) * m];
+        let lrow = &local[i * m..(i + 1) * m];
+        for (&pj, &v) in places.iter().zip(lrow) {
+            if pj == NO_PLACE {
+                continue;
+            }
+            let s = row[pj as usize];
+            if s != u32::MAX {
+                values[s as usize] += v;
+            }
+        }
+    }
+}
+
 /// Gather the local values of a global vector (zero for [`NO_DOF`]).
 pub fn gather<const N: usize>(x: &[f64], dofs: &[usize; N]) -> [f64; N] {
     let mut out = [0.0; N];

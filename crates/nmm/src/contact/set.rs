@@ -404,6 +404,8 @@ pub struct ContactSet {
     lasting: HashMap<ContactKey, (LawId, LawState)>,
     /// Every contact of the last committed step, open ones included.
     seen: HashSet<ContactKey>,
+    /// See [`ContactSet::chosen_are_own`].
+    chosen_own: bool,
     /// The run's threads: the laws of the contacts are evaluated on them (local work), the
     /// forces scattered in contact order.
     pub threads: crate::parallel::Threads,
@@ -503,6 +505,7 @@ impl Default for ContactSet {
             committed: HashMap::default(),
             lasting: HashMap::default(),
             seen: HashSet::default(),
+            chosen_own: false,
             threads: Default::default(),
             touch_tol: 0.0,
             spacing: 0.0,
@@ -843,6 +846,7 @@ impl ContactSet {
         search: f64,
     ) {
         self.contacts.clear();
+        self.chosen_own = false;
         self.generation += 1;
         let basis = disc.basis;
         let ne = basis.element_dofs();
@@ -1136,10 +1140,12 @@ impl ContactSet {
             (
                 b,
                 tangent4(&law.on_branch(&c.params, &c.history, gn, gs, b)),
+                b == law.branch(&c.params, &c.history, gn, gs),
             )
         });
+        self.chosen_own = chosen.iter().all(|c| c.2);
         let mut changed = 0;
-        for (c, (b, coef)) in self.contacts.iter_mut().zip(chosen) {
+        for (c, (b, coef, _)) in self.contacts.iter_mut().zip(chosen) {
             changed += usize::from(if first {
                 b != Branch::Open
             } else {
@@ -1149,6 +1155,13 @@ impl ContactSet {
             c.coef = coef;
         }
         changed
+    }
+
+    /// Whether the last choice of branches ([`ContactSet::choose_branches`],
+    /// [`ContactSet::choose_own_branches`]) put every contact on the law's own branch at
+    /// its iterate: the residual on the chosen branches there is the true residual.
+    pub fn chosen_are_own(&self) -> bool {
+        self.chosen_own
     }
 
     /// Put every contact on the law's own branch at `du` (no iteration rule). Returns how
@@ -1165,6 +1178,7 @@ impl ContactSet {
                 tangent4(&law.on_branch(&c.params, &c.history, gn, gs, b)),
             )
         });
+        self.chosen_own = true;
         let mut changed = 0;
         for (c, (b, coef)) in self.contacts.iter_mut().zip(chosen) {
             changed += usize::from(b != c.branch);
@@ -1301,11 +1315,28 @@ impl ContactSet {
     /// block is zero.
     #[inline]
     pub fn tangent_block_into(c: &Contact, symmetric: bool, k: &mut [f64]) -> bool {
-        let [a, mut b, mut cc, d] = c.coef;
-        if symmetric {
-            b = 0.0;
-            cc = 0.0;
+        Self::block_into(c, Self::tangent_coef(c, symmetric), k)
+    }
+
+    /// The coefficients [∂t_N/∂g_N, ∂t_N/∂g_S, ∂t_S/∂g_N, ∂t_S/∂g_S] of contact `c`'s
+    /// tangent block on its chosen branch; `symmetric`: without the unsymmetric coupling
+    /// (see [`ContactSet::tangent_block`]).
+    #[inline]
+    pub fn tangent_coef(c: &Contact, symmetric: bool) -> [f64; 4] {
+        let [a, b, cc, d] = c.coef;
+        match symmetric {
+            true => [a, 0.0, 0.0, d],
+            false => [a, b, cc, d],
         }
+    }
+
+    /// The block Bᵀ C B of contact `c`'s rows B = [b_N; b_S] for the coefficients
+    /// C = [[a, b], [c, d]] (`coef`), row-major over its unknowns, into `k` (n² long); false
+    /// (and `k` untouched) when C is zero. The tangent block is linear in C: the block of
+    /// a difference of coefficients is the difference of the blocks.
+    #[inline]
+    pub fn block_into(c: &Contact, coef: [f64; 4], k: &mut [f64]) -> bool {
+        let [a, b, cc, d] = coef;
         if a == 0.0 && b == 0.0 && cc == 0.0 && d == 0.0 {
             return false;
         }

@@ -13,7 +13,7 @@
 
 use super::Penalty;
 use crate::assembly::global;
-use crate::contact::set::{Contact, ContactRow, ContactSet};
+use crate::contact::set::{Contact, ContactRow, ContactSet, MAX_CONTACT_DOFS};
 use crate::cover::basis::NO_DOF;
 use crate::solver::{PiecewiseSystem, SparsePattern, TangentOperator};
 use std::collections::HashMap;
@@ -22,6 +22,9 @@ use std::sync::Arc;
 /// A contact coupling: the free unknowns of a contact, sorted, each once, padded with
 /// [`NO_DOF`] to the contact's length (contacts between the same two elements share it).
 pub(crate) type CouplingKey = ContactRow<usize>;
+
+/// See [`TangentPattern::assembled`].
+type AssemblyKey = (u64, usize, bool, u64);
 
 /// The free unknowns of a coupling key: its leading entries before the [`NO_DOF`] padding.
 fn free_unknowns(key: &[usize]) -> &[usize] {
@@ -146,10 +149,19 @@ pub(crate) struct TangentPattern {
     /// Slots of each coupling's entries (n², n the unknowns of a contact, row-major over its
     /// key).
     key_slots: Vec<u32>,
-    /// Slots of each current contact's tangent entries (n², row-major over the contact's
-    /// own unknowns), for the contact list of generation and step `bound`.
-    contact_slots: Vec<u32>,
+    /// Each current contact's coupling (index in `reserved`) and the place of each of its
+    /// unknowns in that coupling's key ([`global::NO_PLACE`]: no slot), for the contact
+    /// list of generation and step `bound`: its tangent entries' slots are the coupling's
+    /// (`key_slots`), through [`global::scatter_through`].
+    contact_bindings: Vec<Binding>,
     bound: Option<(u64, usize)>,
+    /// The last assembly of the tangent into the solver's matrix
+    /// ([`TangentOperator::assemble`], then [`TangentOperator::update_assembly`]): the
+    /// contact list's generation, the step, whether only the symmetric part, σ's bits;
+    /// and each contact's coefficients it holds (a record for the updates: not state
+    /// that crosses steps).
+    assembled: Option<AssemblyKey>,
+    assembled_coef: Vec<[f64; 4]>,
     /// Whether the bound contacts' slots hold every entry of their tangents (else some
     /// contact's rows below [`Contact::preconditioner_dofs`]' floor have no slot).
     complete: bool,
@@ -176,9 +188,11 @@ impl TangentPattern {
             index: HashMap::default(),
             map: Vec::new(),
             key_slots: Vec::new(),
-            contact_slots: Vec::new(),
+            contact_bindings: Vec::new(),
             bound: None,
             complete: true,
+            assembled: None,
+            assembled_coef: Vec::new(),
         }
     }
 
@@ -219,6 +233,7 @@ impl TangentPattern {
         self.contact_dofs = s.contact_dofs;
         self.combined = None;
         self.bound = None;
+        self.assembled = None;
         Ok(())
     }
 
@@ -279,21 +294,20 @@ impl TangentPattern {
     /// one is reserved (see [`contact_key`]). Decided at the first request of a step (a
     /// tangent that turns symmetric later in the step keeps the step's pattern: a rebuild
     /// within the step cost more symbolic analyses than the direct solves saved).
-    fn for_contacts(&mut self, contacts: &ContactSet, complete: bool) -> Arc<SparsePattern> {
+    fn for_contacts(
+        &mut self,
+        contacts: &ContactSet,
+        complete: bool,
+        threads: &crate::parallel::Threads,
+    ) -> Arc<SparsePattern> {
         if self.bound == Some((contacts.generation(), self.step)) {
             if let Some(p) = &self.combined {
                 return p.clone();
             }
         }
-        let exact: Vec<CouplingKey> = contacts
-            .contacts
-            .iter()
-            .map(|c| coupling_key(&c.coupled_dofs()))
-            .collect();
-        let keys: Vec<CouplingKey> = contacts.contacts.iter().map(contact_key).collect();
+        let cs = &contacts.contacts;
         // every contact of a discretisation has the same number of unknowns
         let nc = contacts.contact_dofs();
-        let n2 = nc * nc;
         if nc != self.contact_dofs {
             self.reserved.clear();
             self.last_used.clear();
@@ -306,84 +320,110 @@ impl TangentPattern {
         // each contact's coupling (one lookup), else the coupling of all its unknowns that
         // another contact between the same two elements reserved (it holds this one's); a
         // coupling not reserved rebuilds the pattern
-        // (and whether it was bound through a coupling that leaves some of its rows out)
-        let lookup = |index: &HashMap<CouplingKey, u32, _>,
-                      allow_partial: bool|
-         -> Vec<(u32, bool)> {
-            exact
-                .iter()
-                .zip(&keys)
-                .zip(&contacts.contacts)
-                .map(|((e, k), c)| {
-                    if let Some(&i) = index.get(e).or_else(|| index.get(&coupling_key(&c.dofs))) {
-                        (i, false)
-                    } else if let (true, Some(&i)) = (allow_partial, index.get(k)) {
-                        (i, k != e)
-                    } else {
-                        (u32::MAX, false)
+        // (and whether it was bound through a coupling that leaves some of its rows out);
+        // local work of each contact, on the run's threads
+        let lookup = |index: &HashMap<CouplingKey, u32, _>, allow_partial: bool| {
+            threads.map(cs.len(), |i| {
+                let c = &cs[i];
+                let exact = coupling_key(&c.coupled_dofs());
+                if let Some(&i) = index
+                    .get(&exact)
+                    .or_else(|| index.get(&coupling_key(&c.dofs)))
+                {
+                    return (i, false);
+                }
+                if allow_partial {
+                    let k = contact_key(c);
+                    if let Some(&i) = index.get(&k) {
+                        return (i, k != exact);
                     }
-                })
-                .collect()
+                }
+                (u32::MAX, false)
+            })
         };
         let mut found = lookup(&self.index, !complete);
         if found.iter().any(|f| f.0 == u32::MAX) {
             // the couplings without their small rows; for a complete pattern also the whole
             // ones (no further fill: the others are parts of them)
+            let keys = cs.iter().map(contact_key);
             let both: Vec<CouplingKey> = match complete {
-                true => exact.iter().chain(&keys).cloned().collect(),
-                false => keys.clone(),
+                true => cs
+                    .iter()
+                    .map(|c| coupling_key(&c.coupled_dofs()))
+                    .chain(keys)
+                    .collect(),
+                false => keys.collect(),
             };
             self.rebuild(&both);
             found = lookup(&self.index, !complete);
         }
         self.complete = !found.iter().any(|f| f.1);
-        // bind: each contact's slots, from its coupling's, in the contact's own order
-        self.contact_slots.clear();
-        self.contact_slots.resize(keys.len() * n2, u32::MAX);
-        for (ci, (c, &(ki, _))) in contacts.contacts.iter().zip(&found).enumerate() {
-            let ki = ki as usize;
-            let key = &self.reserved[ki];
-            self.last_used[ki] = self.step;
-            let g = ki * n2;
-            let out = &mut self.contact_slots[ci * n2..(ci + 1) * n2];
-            let slots = &self.key_slots[g..g + n2];
-            match (key.fixed(), c.dofs.fixed()) {
+        for &(ki, _) in &found {
+            self.last_used[ki as usize] = self.step;
+        }
+        // bind: each contact's unknowns to their places in its coupling (on the run's
+        // threads)
+        let reserved = &self.reserved;
+        self.contact_bindings = threads.map(cs.len(), |ci| {
+            let (c, ki) = (&cs[ci], found[ci].0);
+            let key = &reserved[ki as usize];
+            let places = match (key.fixed(), c.dofs.fixed()) {
                 // constant covers: arrays of a known length
-                (Some(k), Some(dofs)) => bind(k, dofs, slots, out),
+                (Some(k), Some(dofs)) => bind(k, dofs),
                 _ => {
                     let (k, dofs): (&[usize], &[usize]) = (key, &c.dofs);
-                    bind(k, dofs, slots, out)
+                    bind(k, dofs)
                 }
+            };
+            Binding {
+                coupling: ki,
+                places,
             }
-        }
+        });
         self.bound = Some((contacts.generation(), self.step));
         self.combined.clone().expect("pattern")
     }
 }
 
-/// A contact's tangent slots (`out`, n² row-major over its unknowns `dofs`) from its
-/// coupling's (`slots`, n² row-major over the coupling's `key`). An unknown of the
-/// contact's that is not in the key (its rows are zeros, or below the pattern's floor:
-/// [`contact_key`], [`TangentPattern::complete`]) keeps no slot.
+/// A contact's coupling and the places of its unknowns in it (see
+/// [`TangentPattern::contact_bindings`]).
+#[derive(Debug, Clone, Copy)]
+struct Binding {
+    coupling: u32,
+    places: [u8; MAX_CONTACT_DOFS],
+}
+
+impl Binding {
+    /// values += the contact's local tangent block `k` (n² row-major over its n unknowns).
+    #[inline]
+    fn scatter(&self, values: &mut [f64], key_slots: &[u32], n: usize, k: &[f64]) {
+        let n2 = n * n;
+        let c = self.coupling as usize;
+        global::scatter_through(
+            values,
+            &key_slots[c * n2..(c + 1) * n2],
+            &self.places[..n],
+            k,
+        );
+    }
+}
+
+/// The place in its coupling's `key` of each of a contact's unknowns `dofs` (the contact's
+/// tangent entry (i, j) is the key's entry (place i, place j)). An unknown of the contact's
+/// that is not in the key (its rows are zeros, or below the pattern's floor:
+/// [`contact_key`], [`TangentPattern::complete`]) has no place, nor slot.
 #[inline(always)]
-fn bind(key: &[usize], dofs: &[usize], slots: &[u32], out: &mut [u32]) {
-    let nc = dofs.len();
-    let mut pos = [usize::MAX; crate::contact::set::MAX_CONTACT_DOFS];
-    for (p, &d) in pos.iter_mut().zip(dofs) {
+fn bind(key: &[usize], dofs: &[usize]) -> [u8; MAX_CONTACT_DOFS] {
+    let mut places = [global::NO_PLACE; MAX_CONTACT_DOFS];
+    for (p, &d) in places.iter_mut().zip(dofs) {
         if d != NO_DOF {
-            *p = key.iter().position(|&x| x == d).unwrap_or(usize::MAX);
+            *p = key
+                .iter()
+                .position(|&x| x == d)
+                .map_or(global::NO_PLACE, |i| i as u8);
         }
     }
-    for i in 0..nc {
-        if pos[i] == usize::MAX {
-            continue;
-        }
-        for j in 0..nc {
-            if pos[j] != usize::MAX {
-                out[i * nc + j] = slots[pos[i] * nc + pos[j]];
-            }
-        }
-    }
+    places
 }
 
 /// [`global::group_slots`] of a coupling key (its unknowns sorted, [`NO_DOF`] last): each
@@ -470,6 +510,17 @@ pub(crate) struct StepSystem<'a> {
 }
 
 impl StepSystem<'_> {
+    /// What an assembly of the tangent depends on besides the contacts' coefficients (see
+    /// [`TangentPattern::assembled`]).
+    fn assembly_key(&self, symmetric: bool) -> AssemblyKey {
+        (
+            self.contacts.generation(),
+            self.tangent.step,
+            symmetric,
+            self.sigma.to_bits(),
+        )
+    }
+
     fn linear_residual(&self, x: &[f64], r: &mut [f64]) {
         // the same row sums as sym_mul, on the run's threads
         let l = self.l;
@@ -504,7 +555,8 @@ impl TangentOperator for StepSystem<'_> {
     fn pattern(&mut self) -> Arc<SparsePattern> {
         // a regularised (static) step's solves are near mechanisms: whole couplings too
         let complete = self.contacts.tangent_is_symmetric() || self.sigma > 0.0;
-        self.tangent.for_contacts(self.contacts, complete)
+        self.tangent
+            .for_contacts(self.contacts, complete, self.threads)
     }
 
     fn assemble(&mut self, values: &mut [f64], symmetric: bool) {
@@ -515,16 +567,56 @@ impl TangentOperator for StepSystem<'_> {
         let nc = self.contacts.contact_dofs();
         let n2 = nc * nc;
         let mut k = vec![0.0; n2];
+        let t = &mut *self.tangent;
+        t.assembled_coef.clear();
         for (ci, c) in self.contacts.contacts.iter().enumerate() {
-            if ContactSet::tangent_block_into(c, symmetric, &mut k) {
-                global::scatter(
-                    values,
-                    &self.tangent.contact_slots[ci * n2..(ci + 1) * n2],
-                    &k,
-                );
+            let coef = ContactSet::tangent_coef(c, symmetric);
+            t.assembled_coef.push(coef);
+            if ContactSet::block_into(c, coef, &mut k) {
+                t.contact_bindings[ci].scatter(values, &t.key_slots, nc, &k);
             }
         }
         self.bolts.assemble(values, &self.tangent.map);
+        self.tangent.assembled = Some(self.assembly_key(symmetric));
+    }
+
+    /// Bring `values`, which hold this tangent's last assembly (`assemble`, then any
+    /// updates), to the tangent of the branches chosen now: only the contacts whose
+    /// coefficients changed since, each by the block of the difference (the block is
+    /// linear in them). Refused (false, `values` untouched) when anything else may have
+    /// changed: another contact list or step, another kind (`symmetric`), another σ, or
+    /// bolts (whose tangent is assembled whole).
+    fn update_assembly(&mut self, values: &mut [f64], symmetric: bool) -> bool {
+        let key = self.assembly_key(symmetric);
+        let t = &mut *self.tangent;
+        let cs = &self.contacts.contacts;
+        if t.assembled != Some(key)
+            || !self.bolts.is_empty()
+            || t.assembled_coef.len() != cs.len()
+            || t.bound != Some((self.contacts.generation(), t.step))
+        {
+            return false;
+        }
+        let nc = self.contacts.contact_dofs();
+        let n2 = nc * nc;
+        let mut k = vec![0.0; n2];
+        for (ci, (c, old)) in cs.iter().zip(t.assembled_coef.iter_mut()).enumerate() {
+            let new = ContactSet::tangent_coef(c, symmetric);
+            if new == *old {
+                continue;
+            }
+            let delta = [
+                new[0] - old[0],
+                new[1] - old[1],
+                new[2] - old[2],
+                new[3] - old[3],
+            ];
+            *old = new;
+            if ContactSet::block_into(c, delta, &mut k) {
+                t.contact_bindings[ci].scatter(values, &t.key_slots, nc, &k);
+            }
+        }
+        true
     }
 
     fn is_symmetric(&self) -> bool {
@@ -551,6 +643,11 @@ impl PiecewiseSystem for StepSystem<'_> {
 
     fn choose_own_branches(&mut self, x: &[f64]) -> usize {
         self.contacts.choose_own_branches(x) + self.bolts.choose_branches(x)
+    }
+
+    /// (Bolts are always on their own branches.)
+    fn chosen_are_own(&self) -> bool {
+        self.contacts.chosen_are_own()
     }
 
     fn residual_on_chosen(&mut self, x: &[f64], r: &mut [f64]) {
@@ -634,5 +731,75 @@ mod tests {
                 assert_eq!(big.slot(r, c), Some(map[s] as usize));
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod update_tests {
+    use super::super::{Rhs, Simulation};
+    use crate::solver::{PiecewiseSystem, TangentOperator};
+
+    /// A tangent updated contact by contact ([`TangentOperator::update_assembly`]) is the
+    /// tangent assembled anew, to rounding, whatever branches the contacts moved between
+    /// (open, stuck, sliding); an update is refused for another kind or another σ.
+    #[test]
+    fn an_updated_tangent_is_the_tangent_assembled_anew() {
+        let text = "[analysis]\nmode = \"dynamic\"\ndt = 0.001\nsteps = 2\n\
+             gravity = [0.0, -9.81]\nfriction = \"return-mapping\"\n\
+             [cover]\nsize = 0.25\n\
+             [[material]]\nname = \"m\"\ndensity = 2500.0\nyoung = 1.0e9\npoisson = 0.25\n\
+             [[interface]]\nfriction_angle = 30.0\nnormal_penalty = 1.0e10\nshear_penalty = 1.0e10\n\
+             [[block]]\nname = \"base\"\nmaterial = \"m\"\nfixed = true\n\
+             vertices = [[-1.0, -0.5], [2.0, -0.5], [2.0, 0.0], [-1.0, 0.0]]\n\
+             [[block]]\nname = \"a\"\nmaterial = \"m\"\n\
+             vertices = [[0.0, 0.0], [1.0, 0.0], [1.0, 0.5], [0.0, 0.5]]\n\
+             [[block]]\nname = \"b\"\nmaterial = \"m\"\n\
+             vertices = [[0.2, 0.5], [0.8, 0.5], [0.8, 1.0], [0.2, 1.0]]\n";
+        let model = crate::model::parse_model(text, std::path::Path::new(".")).unwrap();
+        let mut sim = Simulation::new(model).unwrap();
+        sim.advance().unwrap();
+        let n = sim.n_dofs();
+        let (f, f_abs) = (vec![0.0; n], vec![0.0; n]);
+        let rhs = Rhs {
+            f: &f,
+            f_ext_abs: &f_abs,
+            t1: 0.002,
+            dt: 0.001,
+        };
+        sim.with_system(&rhs, 1.0e6, None, |sys, _| {
+            assert!(sys.contacts.contacts.len() >= 4);
+            let nnz = sys.pattern().nnz();
+            let fresh = |sys: &mut super::StepSystem, symmetric| {
+                let mut v = vec![0.0; nnz];
+                sys.assemble(&mut v, symmetric);
+                v
+            };
+            // motions that open, press and shear the joints by turns
+            let motion = |s: f64| -> Vec<f64> {
+                (0..n)
+                    .map(|i| s * 1e-6 * ((i as f64) * 1.7 + s).sin())
+                    .collect()
+            };
+            sys.choose_branches(&vec![0.0; n], true);
+            let mut held = fresh(sys, false);
+            let mut changed = 0;
+            for s in 1..=6 {
+                changed += sys.choose_branches(&motion(s as f64), false);
+                assert!(sys.update_assembly(&mut held, false));
+                // (an assembly anew records the coefficients `held` now holds)
+                let anew = fresh(sys, false);
+                let big = anew.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                for (h, a) in held.iter().zip(&anew) {
+                    assert!((h - a).abs() <= 1e-13 * big, "{h} vs {a}");
+                }
+            }
+            assert!(changed > 0, "no contact changed branch");
+            // another kind, another σ: refused, the values untouched
+            let before = held.clone();
+            assert!(!sys.update_assembly(&mut held, true));
+            sys.set_regularisation(1.0);
+            assert!(!sys.update_assembly(&mut held, false));
+            assert_eq!(held, before);
+        });
     }
 }

@@ -97,6 +97,12 @@ pub trait PiecewiseSystem: TangentOperator {
     /// Choose the law's own branch of every piece at `x` (no semi-smooth rule). Returns how
     /// many pieces changed branch.
     fn choose_own_branches(&mut self, x: &[f64]) -> usize;
+    /// Whether the last choice of branches put every piece on its own branch at its `x`
+    /// (then the residual on the chosen branches there is the true residual, bit for bit:
+    /// the driver reuses it). Default: not known (false).
+    fn chosen_are_own(&self) -> bool {
+        false
+    }
     /// r = the residual at `x` with every piece on its chosen branch.
     fn residual_on_chosen(&mut self, x: &[f64], r: &mut [f64]);
     /// r = the true residual at `x` (every piece on its own branch). Returns how many pieces
@@ -197,6 +203,17 @@ fn norm(v: &[f64]) -> f64 {
     v.iter().map(|a| a * a).sum::<f64>().sqrt()
 }
 
+/// After a choice of branches at x, whose true residual `r` holds: if every piece is on its
+/// own branch, the residual on the chosen ones is `r` (copied into `rb`; true), else it must
+/// be evaluated (false).
+fn own_residual(sys: &dyn PiecewiseSystem, r: &[f64], rb: &mut [f64]) -> bool {
+    let own = sys.chosen_are_own();
+    if own {
+        rb.copy_from_slice(r);
+    }
+    own
+}
+
 /// Solve R(x) = 0 from the initial guess in `x` (updated in place); see the module docs.
 pub fn solve_piecewise(
     sys: &mut dyn PiecewiseSystem,
@@ -239,6 +256,9 @@ pub fn solve_piecewise(
     let mut overridden = true;
     // the branches changed at the last choice (at the first iterate: assumed)
     let mut moving = true;
+    // `rb` holds the residual on the chosen branches at x (it depends on neither σ nor the
+    // direction: kept while x and the branches are)
+    let mut rb_valid = own_residual(sys, &r, &mut rb);
     loop {
         let scale = sys.force_scale().max(f64::MIN_POSITIVE);
         rep.force_scale = scale;
@@ -260,7 +280,10 @@ pub fn solve_piecewise(
         // direction on the chosen branches
         let t = Instant::now();
         sys.set_regularisation(sigma);
-        sys.residual_on_chosen(x, &mut rb);
+        if !rb_valid {
+            sys.residual_on_chosen(x, &mut rb);
+            rb_valid = true;
+        }
         rep.times.assembly += t.elapsed();
         let rbn = norm(&rb);
         // While the active set moves, the direction only needs to be good enough to find
@@ -364,6 +387,7 @@ pub fn solve_piecewise(
             rejections = 0;
             rep.residuals.push(phi);
             let changed = sys.choose_branches(x, false);
+            rb_valid = own_residual(sys, &r, &mut rb);
             rep.active_set_changes += changed;
             moving = changed > 0;
             if !continuation && !moving && sigma > 0.0 && sigma <= 1.01 * sigma0 {
@@ -383,6 +407,7 @@ pub fn solve_piecewise(
             provisional = 0;
             monotone = true;
             rep.active_set_changes += sys.choose_branches(x, false);
+            rb_valid = own_residual(sys, &r, &mut rb);
             overridden = true;
         } else {
             rep.rejections += 1;
@@ -396,6 +421,7 @@ pub fn solve_piecewise(
             if overridden {
                 // the law's own branches at x: a true semi-smooth Newton direction
                 rep.active_set_changes += sys.choose_own_branches(x);
+                rb_valid = own_residual(sys, &r, &mut rb);
                 overridden = false;
             } else {
                 sigma = if sigma > 0.0 { 10.0 * sigma } else { sigma0 };

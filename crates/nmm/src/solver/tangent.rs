@@ -75,6 +75,16 @@ pub trait TangentOperator {
     /// Assemble A into `values` over `pattern()`; `symmetric`: only its symmetric positive
     /// definite part (see the module docs).
     fn assemble(&mut self, values: &mut [f64], symmetric: bool);
+    /// Bring `values` to A (`symmetric`: its symmetric part) when they hold this
+    /// operator's last assembly of the same kind, made since the caller last invalidated
+    /// what it holds (a new step, another inertia coefficient or regularisation: see
+    /// [`LinearSolver::invalidate`]), with only what changed since (contacts that changed
+    /// branch). Returns false, `values` untouched, when it cannot (the caller then
+    /// assembles anew); the default always does.
+    fn update_assembly(&mut self, values: &mut [f64], symmetric: bool) -> bool {
+        let _ = (values, symmetric);
+        false
+    }
     /// Whether A equals its symmetric part.
     fn is_symmetric(&self) -> bool;
     /// How many pieces (contacts) make A unsymmetric: the rank of A less its symmetric
@@ -232,6 +242,10 @@ pub struct TangentSolver {
     /// The LU of the unsymmetric tangent failed in this step: the symmetric part's
     /// Cholesky factor for the rest of it.
     lu_refused: bool,
+    /// `matrix` holds the operator's assembly of this kind (`Some(true)`: its symmetric
+    /// part), made since the last invalidation: the next refresh of the same kind may
+    /// update it ([`TangentOperator::update_assembly`]).
+    assembled: Option<bool>,
     pub stats: LinearStats,
 }
 
@@ -244,6 +258,7 @@ impl Default for TangentSolver {
             matrix: None,
             refresh: true,
             lu_refused: false,
+            assembled: None,
             stats: LinearStats::default(),
         }
     }
@@ -264,6 +279,7 @@ impl LinearSolver for TangentSolver {
     fn invalidate(&mut self) {
         self.refresh = true;
         self.lu_refused = false;
+        self.assembled = None;
         // (and no update of the held factor: every value of a new step's tangent differs)
         self.chol.invalidate();
     }
@@ -278,10 +294,35 @@ impl LinearSolver for TangentSolver {
 }
 
 impl TangentSolver {
+    /// `matrix` := the operator's tangent (`symmetric`: its symmetric part) on its
+    /// pattern: the held one updated where it holds the last assembly of that kind, else
+    /// assembled anew.
+    fn assembled_matrix(
+        &mut self,
+        op: &mut dyn TangentOperator,
+        symmetric: bool,
+    ) -> Result<(), SolveError> {
+        let p = op.pattern();
+        let held = match &self.matrix {
+            Some(m) => Arc::ptr_eq(&m.pattern, &p),
+            None => false,
+        };
+        if !(held
+            && self.assembled == Some(symmetric)
+            && op.update_assembly(&mut self.matrix.as_mut().expect("matrix").values, symmetric))
+        {
+            let m = self.matrix_for(op)?;
+            op.assemble(&mut m.values, symmetric);
+        }
+        self.assembled = Some(symmetric);
+        Ok(())
+    }
+
     fn matrix_for(
         &mut self,
         op: &mut dyn TangentOperator,
     ) -> Result<&mut SparseMatrix, SolveError> {
+        self.assembled = None;
         let p = op.pattern();
         let fresh = match &self.matrix {
             Some(m) => !Arc::ptr_eq(&m.pattern, &p),
@@ -308,8 +349,7 @@ impl TangentSolver {
     fn refresh(&mut self, op: &mut dyn TangentOperator, lu: bool) -> Result<(), SolveError> {
         let t = Instant::now();
         let before = self.chol.symbolic_count;
-        let m = self.matrix_for(op)?;
-        op.assemble(&mut m.values, !lu);
+        self.assembled_matrix(op, !lu)?;
         let m = self.matrix.as_ref().expect("matrix");
         let r = match lu {
             true => self.chol.factorize_lu_on(m, &op.threads()),
@@ -424,10 +464,8 @@ impl TangentSolver {
         }
         // 3. LU of the full tangent
         let t = Instant::now();
-        let m = self.matrix_for(op)?;
-        op.assemble(&mut m.values, false);
-        let m = self.matrix.as_ref().expect("matrix");
-        let r = self.lu.factorize(m);
+        self.assembled_matrix(op, false)?;
+        let r = self.lu.factorize(self.matrix.as_ref().expect("matrix"));
         self.stats.factorisation_time += t.elapsed();
         self.stats.lu_factorisations += 1;
         r?;

@@ -190,14 +190,22 @@ const WEAK_RETURN: f64 = 0.9;
 pub const WATCHDOG_GROWTH: f64 = 1e8;
 /// Relative accuracy of the linear solves while the active set moves.
 const LOOSE: f64 = 1e-3;
-/// Whether moving active sets get loose solves (measured on the brick walls: fewer GMRES
-/// iterations per solve but more Newton iterations; off). Measured again (2026-12-03,
-/// LOOSE = 1e-5): the 40×40 wall's 12 steps took 277 GMRES iterations instead of 400 with
-/// the same 57 solves, but the shaking-table slope 12,919 solves instead of 10,541 and the
-/// arch one cut step; loose only after a sweeping change (≥ 32 pieces and ≥ 1% of them,
-/// the first solve tight): GMRES −9% and −18% on the 40×40 and 20×20 walls, −2% on the
-/// arch, +14% on the jointed slope example. Off.
-const INEXACT: bool = false;
+/// Whether moving active sets get loose solves (forcing term [`LOOSE`]) where the linear
+/// solver says they pay ([`LinearSolver::loose_solves_pay`]: with the LU of the whole
+/// tangent, where one GMRES iteration reaches 10⁻³ and an accurate solve needs two).
+///
+/// Measured (2026-12-05, one thread, single runs, against tight solves throughout): 40×40
+/// wall (12 steps) 57 solves and 106 GMRES iterations → 57 and 59; shaken slope example
+/// (0.3 g) 14,243 solves, 28,294 GMRES iterations, 38 cut steps → 11,677, 15,059, 16; at
+/// 0.25 / 0.35 g 11,498 / 12,122 solves → 13,561 / 13,291, GMRES 25,097 / 24,722 → 18,135 /
+/// 15,289, cuts 18 / 30 → 36 / 26 (a chaotic problem: read the sums, 86 → 78 cuts, 37,863
+/// → 38,529 solves); arch example 18,849 → 18,950 solves, 41,241 → 36,025 GMRES. Loose
+/// solves with every factor (not only the LU) cost the arch example 22,464 solves (its
+/// few sliding contacts keep the symmetric part's factor, with which a loose solve stops
+/// GMRES on a poor direction). Before the LU (2026-12-03, every factor, LOOSE = 1e-5):
+/// the 40×40 wall 400 → 277 GMRES iterations, but the shaking-table slope 10,541 → 12,919
+/// solves and the arch one cut step: off then.
+const INEXACT: bool = true;
 
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|a| a * a).sum::<f64>().sqrt()
@@ -290,7 +298,11 @@ pub fn solve_piecewise(
         // the next set (inexact Newton, forcing term LOOSE); once the branches held still,
         // accurate enough that this iteration converges.
         let tight = (0.1 * opts.tolerance * scale / rbn.max(f64::MIN_POSITIVE)).clamp(1e-13, LOOSE);
-        let rtol = if moving && INEXACT { LOOSE } else { tight };
+        let rtol = if moving && INEXACT && lin.loose_solves_pay(&*sys) {
+            LOOSE
+        } else {
+            tight
+        };
         rep.iterations += 1;
         if let Err(e) = lin.solve(sys, &rb, &mut d, rtol) {
             rep.error = Some(e);

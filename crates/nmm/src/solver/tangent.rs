@@ -126,6 +126,13 @@ pub trait LinearSolver: Send {
     /// changed. A solver must compute the same results after this as a new one, so that a
     /// run resumed from a checkpoint repeats the uninterrupted run bit for bit.
     fn invalidate(&mut self);
+    /// Whether a solve with `op` to a loose tolerance (10⁻³) costs less than an accurate one
+    /// (so that the Newton driver may ask for loose solves while the active set moves).
+    /// Default: no.
+    fn loose_solves_pay(&self, op: &dyn TangentOperator) -> bool {
+        let _ = op;
+        false
+    }
     /// Counts and times of the solves so far.
     fn stats(&self) -> LinearStats;
     /// Stored values of the factor it holds (for memory reports; 0 for none).
@@ -286,6 +293,14 @@ impl LinearSolver for TangentSolver {
 
     fn stats(&self) -> LinearStats {
         self.stats
+    }
+
+    /// With the LU of the whole tangent (enough sliding contacts, `MIN_LU_PIECES`): one
+    /// GMRES iteration reaches a loose tolerance, two an accurate one when the pattern
+    /// leaves out small entries. With the symmetric part's factor a loose solve stops
+    /// GMRES early, on a direction that costs Newton iterations (see newton.rs `INEXACT`).
+    fn loose_solves_pay(&self, op: &dyn TangentOperator) -> bool {
+        !self.lu_refused && op.unsymmetric_pieces() >= MIN_LU_PIECES
     }
 
     fn factor_len(&self) -> usize {

@@ -202,7 +202,12 @@ const LOOSE: f64 = 1e-3;
 /// → 38,529 solves); arch example 18,849 → 18,950 solves, 41,241 → 36,025 GMRES. Loose
 /// solves with every factor (not only the LU) cost the arch example 22,464 solves (its
 /// few sliding contacts keep the symmetric part's factor, with which a loose solve stops
-/// GMRES on a poor direction). Before the LU (2026-12-03, every factor, LOOSE = 1e-5):
+/// GMRES on a poor direction). The walls pay one to three Newton solves of 51–64 for it
+/// (12 steps of the 10×10 … 40×40 walls: 51/64/56/57 → 54/66/57/57). Measured and rejected:
+/// loose only after a sweeping change (≥ 50 pieces, and the first solve of a step): the
+/// walls' Newton solves as tight (51/64/56/57) with GMRES 78/88/71/72 (tight 100/122/104/106,
+/// loose 59/71/62/59), but the arch example one cut step and the shaken slope family 98
+/// cuts (41 at 0.3 g). Before the LU (2026-12-03, every factor, LOOSE = 1e-5):
 /// the 40×40 wall 400 → 277 GMRES iterations, but the shaking-table slope 10,541 → 12,919
 /// solves and the arch one cut step: off then.
 const INEXACT: bool = true;

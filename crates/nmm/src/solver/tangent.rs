@@ -11,7 +11,9 @@
 //! 2. if it does not converge in `STALE_ITERATIONS` (or the last solve needed more than
 //!    `REFRESH_AFTER`): **refresh**, on one symbolic analysis (our supernodal
 //!    factorisation, [`Cholesky`], no allocation, the analysis kept while the pattern is
-//!    unchanged):
+//!    unchanged; within a step the held matrix is updated by the contacts that changed
+//!    branch since its last assembly, [`TangentOperator::update_assembly`], and the held
+//!    factor by the supernodes whose columns changed):
 //!    * when at least `MIN_LU_PIECES` sliding contacts make J unsymmetric: the **LU without
 //!      pivoting of J** itself ([`Cholesky::factorize_lu_on`]: the same ordering,
 //!      supernodes and storage as the Cholesky factor, L and Uᵀ; a negative pivot is

@@ -406,6 +406,8 @@ pub struct ContactSet {
     seen: HashSet<ContactKey>,
     /// See [`ContactSet::chosen_are_own`].
     chosen_own: bool,
+    /// See [`ContactSet::unsymmetric_count`].
+    unsymmetric: usize,
     /// The run's threads: the laws of the contacts are evaluated on them (local work), the
     /// forces scattered in contact order.
     pub threads: crate::parallel::Threads,
@@ -506,6 +508,7 @@ impl Default for ContactSet {
             lasting: HashMap::default(),
             seen: HashSet::default(),
             chosen_own: false,
+            unsymmetric: 0,
             threads: Default::default(),
             touch_tol: 0.0,
             spacing: 0.0,
@@ -847,6 +850,7 @@ impl ContactSet {
     ) {
         self.contacts.clear();
         self.chosen_own = false;
+        self.unsymmetric = 0;
         self.generation += 1;
         let basis = disc.basis;
         let ne = basis.element_dofs();
@@ -1144,7 +1148,7 @@ impl ContactSet {
             )
         });
         self.chosen_own = chosen.iter().all(|c| c.2);
-        let mut changed = 0;
+        let (mut changed, mut unsymmetric) = (0, 0);
         for (c, (b, coef, _)) in self.contacts.iter_mut().zip(chosen) {
             changed += usize::from(if first {
                 b != Branch::Open
@@ -1153,7 +1157,9 @@ impl ContactSet {
             });
             c.branch = b;
             c.coef = coef;
+            unsymmetric += usize::from(c.unsymmetric());
         }
+        self.unsymmetric = unsymmetric;
         changed
     }
 
@@ -1179,12 +1185,14 @@ impl ContactSet {
             )
         });
         self.chosen_own = true;
-        let mut changed = 0;
+        let (mut changed, mut unsymmetric) = (0, 0);
         for (c, (b, coef)) in self.contacts.iter_mut().zip(chosen) {
             changed += usize::from(b != c.branch);
             c.branch = b;
             c.coef = coef;
+            unsymmetric += usize::from(c.unsymmetric());
         }
+        self.unsymmetric = unsymmetric;
         changed
     }
 
@@ -1292,12 +1300,13 @@ impl ContactSet {
     /// Whether the tangent of the chosen branches is symmetric (no sliding contact with the
     /// consistent, unsymmetric friction tangent).
     pub fn tangent_is_symmetric(&self) -> bool {
-        self.contacts.iter().all(|c| !c.unsymmetric())
+        self.unsymmetric == 0
     }
 
-    /// How many contacts make the tangent of the chosen branches unsymmetric (sliding).
+    /// How many contacts make the tangent of the chosen branches unsymmetric (sliding),
+    /// counted when the branches were chosen (the only writers of the coefficients).
     pub fn unsymmetric_count(&self) -> usize {
-        self.contacts.iter().filter(|c| c.unsymmetric()).count()
+        self.unsymmetric
     }
 
     /// The local tangent block of contact `c` on its chosen branch, row-major over its

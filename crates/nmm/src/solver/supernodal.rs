@@ -366,40 +366,24 @@ unsafe fn lu_supernode(
         let ud = MatRef::from_column_major_slice(upper.get(val_ptr[d], val_ptr[d + 1]), drows, dw);
         for j0 in (0..mid).step_by(UPDATE_COLUMNS) {
             let cols = UPDATE_COLUMNS.min(mid - j0);
+            let targets = &rel[j0..j0 + cols];
             // L's columns of s (the whole diagonal block and below): L_d · (U_d's columns)
-            let t = &mut block[..below * cols];
-            matmul::matmul(
-                MatMut::from_column_major_slice_mut(t, below, cols),
-                Accum::Replace,
-                ld.subrows(first, below),
-                ud.subrows(first + j0, cols).transpose(),
-                1.0,
-                Par::Seq,
+            subtract_product(
+                ls,
+                srows,
+                (ld.subrows(first, below), &rel[..below]),
+                (ud.subrows(first + j0, cols), targets),
+                block,
             );
-            for jj in 0..cols {
-                let col = &mut ls[rel[j0 + jj] * srows..(rel[j0 + jj] + 1) * srows];
-                for (i, &tv) in t[jj * below..(jj + 1) * below].iter().enumerate() {
-                    col[rel[i]] -= tv;
-                }
-            }
             // Uᵀ's rows below the diagonal block: (U_d's rows)ᵀ · L_d's rows of s
-            let rows = below - mid;
-            if rows > 0 {
-                let t = &mut block[..rows * cols];
-                matmul::matmul(
-                    MatMut::from_column_major_slice_mut(t, rows, cols),
-                    Accum::Replace,
-                    ud.subrows(first + mid, rows),
-                    ld.subrows(first + j0, cols).transpose(),
-                    1.0,
-                    Par::Seq,
+            if below > mid {
+                subtract_product(
+                    us,
+                    srows,
+                    (ud.subrows(first + mid, below - mid), &rel[mid..below]),
+                    (ld.subrows(first + j0, cols), targets),
+                    block,
                 );
-                for jj in 0..cols {
-                    let col = &mut us[rel[j0 + jj] * srows..(rel[j0 + jj] + 1) * srows];
-                    for (i, &tv) in t[jj * rows..(jj + 1) * rows].iter().enumerate() {
-                        col[rel[mid + i]] -= tv;
-                    }
-                }
             }
         }
     });
@@ -450,6 +434,35 @@ unsafe fn lu_supernode(
             .for_each(|x| *x *= inv);
     }
     true
+}
+
+/// x[rows, cols] −= a bᵀ for the column-major `x` (`srows` rows): row i of the product to
+/// row `rows[i]`, column j to column `cols[j]`; the product made whole first (faer's dense
+/// kernel) in `t`, then scattered.
+#[inline]
+fn subtract_product(
+    x: &mut [f64],
+    srows: usize,
+    (a, rows): (MatRef<'_, f64>, &[usize]),
+    (b, cols): (MatRef<'_, f64>, &[usize]),
+    t: &mut [f64],
+) {
+    let (m, n) = (a.nrows(), b.nrows());
+    let t = &mut t[..m * n];
+    matmul::matmul(
+        MatMut::from_column_major_slice_mut(t, m, n),
+        Accum::Replace,
+        a,
+        b.transpose(),
+        1.0,
+        Par::Seq,
+    );
+    for (jj, &c) in cols.iter().enumerate() {
+        let col = &mut x[c * srows..(c + 1) * srows];
+        for (&r, &tv) in rows.iter().zip(&t[jj * m..(jj + 1) * m]) {
+            col[r] -= tv;
+        }
+    }
 }
 
 /// LU without pivoting of the square `a` in place (Doolittle: L unit lower below the

@@ -58,6 +58,8 @@ impl ContactSet {
         self.lasting = s.lasting.iter().map(|(k, l, h)| (*k, (*l, *h))).collect();
         self.seen = s.seen.iter().copied().collect();
         self.contacts.clear();
+        self.unsymmetric = 0;
+        self.chosen_own = false;
         self.generation += 1;
     }
 }

@@ -326,6 +326,16 @@ impl Contact {
         Some((a * gn + b * gs, cc * gn + d * gs))
     }
 
+    /// f += |b_N t_N + b_S t_S| componentwise (the force magnitudes of the force scale).
+    #[inline(always)]
+    fn add_magnitudes(&self, tn: f64, ts: f64, f: &mut [f64]) {
+        for ((&d, bn), bs) in self.dofs.iter().zip(self.bn.iter()).zip(self.bs.iter()) {
+            if d != NO_DOF {
+                f[d] += (bn * tn + bs * ts).abs();
+            }
+        }
+    }
+
     /// y += b_N t_N + b_S t_S.
     #[inline(always)]
     fn scatter(&self, tn: f64, ts: f64, y: &mut [f64]) {
@@ -411,6 +421,9 @@ pub struct ContactSet {
     /// The run's threads: the laws of the contacts are evaluated on them (local work), the
     /// forces scattered in contact order.
     pub threads: crate::parallel::Threads,
+    /// The second half's sums of a pass over the contacts ([`ContactSet::split_pass`];
+    /// kept: a fresh allocation of that size is fresh pages every pass).
+    half: Vec<f64>,
     /// Gaps up to this count as touching (`REL_TOL` × the model's size).
     touch_tol: f64,
     /// Mean length of the boundary segments of the model's blocks, s̄ (m).
@@ -510,6 +523,7 @@ impl Default for ContactSet {
             chosen_own: false,
             unsymmetric: 0,
             threads: Default::default(),
+            half: Vec::new(),
             touch_tol: 0.0,
             spacing: 0.0,
             commits: 0,
@@ -1131,36 +1145,32 @@ impl ContactSet {
     /// [`super::law::FrictionLaw::iteration_branch`]; `first`: the first iterate of the step). Returns
     /// how many contacts changed branch (at the first iterate: how many are not open).
     pub fn choose_branches(&mut self, du: &[f64], first: bool) -> usize {
-        let cs = &self.contacts;
-        let chosen = self.threads.map(cs.len(), |i| {
-            let c = &cs[i];
-            let law = c.law.law();
-            let (gn, gs) = c.gaps(du);
-            let ctx = IterationContext {
-                previous: (!first).then_some(c.branch),
-                touching: c.touching,
-            };
-            let b = law.iteration_branch(&c.params, &c.history, gn, gs, ctx);
-            (
-                b,
-                tangent4(&law.on_branch(&c.params, &c.history, gn, gs, b)),
-                b == law.branch(&c.params, &c.history, gn, gs),
-            )
+        let ((c0, u0, o0), second) = self.split_pass(&mut [], &mut [], |cs, _, _| {
+            let (mut changed, mut unsymmetric, mut own) = (0, 0, true);
+            for c in cs {
+                let law = c.law.law();
+                let (gn, gs) = c.gaps(du);
+                let ctx = IterationContext {
+                    previous: (!first).then_some(c.branch),
+                    touching: c.touching,
+                };
+                let b = law.iteration_branch(&c.params, &c.history, gn, gs, ctx);
+                own &= b == law.branch(&c.params, &c.history, gn, gs);
+                changed += usize::from(if first {
+                    b != Branch::Open
+                } else {
+                    b != c.branch
+                });
+                c.branch = b;
+                c.coef = tangent4(&law.on_branch(&c.params, &c.history, gn, gs, b));
+                unsymmetric += usize::from(c.unsymmetric());
+            }
+            (changed, unsymmetric, own)
         });
-        self.chosen_own = chosen.iter().all(|c| c.2);
-        let (mut changed, mut unsymmetric) = (0, 0);
-        for (c, (b, coef, _)) in self.contacts.iter_mut().zip(chosen) {
-            changed += usize::from(if first {
-                b != Branch::Open
-            } else {
-                b != c.branch
-            });
-            c.branch = b;
-            c.coef = coef;
-            unsymmetric += usize::from(c.unsymmetric());
-        }
-        self.unsymmetric = unsymmetric;
-        changed
+        let (c1, u1, o1) = second.unwrap_or((0, 0, true));
+        self.chosen_own = o0 && o1;
+        self.unsymmetric = u0 + u1;
+        c0 + c1
     }
 
     /// Whether the last choice of branches ([`ContactSet::choose_branches`],
@@ -1173,93 +1183,124 @@ impl ContactSet {
     /// Put every contact on the law's own branch at `du` (no iteration rule). Returns how
     /// many contacts changed branch.
     pub fn choose_own_branches(&mut self, du: &[f64]) -> usize {
-        let cs = &self.contacts;
-        let chosen = self.threads.map(cs.len(), |i| {
-            let c = &cs[i];
-            let law = c.law.law();
-            let (gn, gs) = c.gaps(du);
-            let b = law.branch(&c.params, &c.history, gn, gs);
-            (
-                b,
-                tangent4(&law.on_branch(&c.params, &c.history, gn, gs, b)),
-            )
+        let ((c0, u0), second) = self.split_pass(&mut [], &mut [], |cs, _, _| {
+            let (mut changed, mut unsymmetric) = (0, 0);
+            for c in cs {
+                let law = c.law.law();
+                let (gn, gs) = c.gaps(du);
+                let b = law.branch(&c.params, &c.history, gn, gs);
+                changed += usize::from(b != c.branch);
+                c.branch = b;
+                c.coef = tangent4(&law.on_branch(&c.params, &c.history, gn, gs, b));
+                unsymmetric += usize::from(c.unsymmetric());
+            }
+            (changed, unsymmetric)
         });
+        let (c1, u1) = second.unwrap_or((0, 0));
         self.chosen_own = true;
-        let (mut changed, mut unsymmetric) = (0, 0);
-        for (c, (b, coef)) in self.contacts.iter_mut().zip(chosen) {
-            changed += usize::from(b != c.branch);
-            c.branch = b;
-            c.coef = coef;
-            unsymmetric += usize::from(c.unsymmetric());
-        }
-        self.unsymmetric = unsymmetric;
-        changed
+        self.unsymmetric = u0 + u1;
+        c0 + c1
     }
 
     /// Evaluate every contact's response at `du` on its chosen branch (`own = false`) or on
     /// the law's own branch (`own = true`, the true residual), and subtract the contact
-    /// forces from `r`. With `own`, returns how many contacts are on another branch than the
-    /// one chosen (0: the chosen active set is consistent at `du`).
-    pub fn add_forces(&mut self, du: &[f64], r: &mut [f64], own: bool) -> usize {
-        let cs = &self.contacts;
-        // local work: each contact's law at du (in parallel), then the ordered scatter
-        let responses = self.threads.map(cs.len(), |i| {
-            let c = &cs[i];
-            let law = c.law.law();
-            let (gn, gs) = c.gaps(du);
-            if own {
-                let b = law.branch(&c.params, &c.history, gn, gs);
-                (
-                    b != c.branch,
-                    law.on_branch(&c.params, &c.history, gn, gs, b),
-                )
-            } else {
-                (
-                    false,
-                    law.on_branch(&c.params, &c.history, gn, gs, c.branch),
-                )
-            }
-        });
-        let mut inconsistent = 0;
-        for (c, (other, resp)) in self.contacts.iter_mut().zip(responses) {
-            inconsistent += usize::from(other);
-            if own {
-                c.response = resp;
-            }
-            if resp.tn == 0.0 && resp.ts == 0.0 {
-                continue;
-            }
-            c.scatter(-resp.tn, -resp.ts, r);
-        }
-        inconsistent
-    }
-
-    /// The magnitudes of the contact forces, added componentwise to `f` (for the
-    /// physical force scale of the convergence test).
-    pub fn add_force_magnitudes(&self, f: &mut [f64]) {
-        for c in &self.contacts {
-            let r = &c.response;
-            if r.tn == 0.0 && r.ts == 0.0 {
-                continue;
-            }
-            for ((&d, bn), bs) in c.dofs.iter().zip(c.bn.iter()).zip(c.bs.iter()) {
-                if d != NO_DOF {
-                    f[d] += (bn * r.tn + bs * r.ts).abs();
+    /// forces from `r`; with `magnitudes`, add the magnitudes of the contact forces to it
+    /// componentwise (for the physical force scale of the convergence test). With `own`,
+    /// returns how many contacts are on another branch than the one chosen (0: the chosen
+    /// active set is consistent at `du`). One pass: each contact's law, then its scatter
+    /// (local work and the ordered scatter of a half, [`ContactSet::split_pass`]).
+    pub fn add_forces(
+        &mut self,
+        du: &[f64],
+        r: &mut [f64],
+        own: bool,
+        magnitudes: Option<&mut [f64]>,
+    ) -> usize {
+        let mags = magnitudes.is_some();
+        let w = magnitudes.unwrap_or(&mut []);
+        let (a, b) = self.split_pass(r, w, |cs, r, w| {
+            let mut inconsistent = 0;
+            for c in cs {
+                let law = c.law.law();
+                let (gn, gs) = c.gaps(du);
+                let resp = if own {
+                    let b = law.branch(&c.params, &c.history, gn, gs);
+                    inconsistent += usize::from(b != c.branch);
+                    c.response = law.on_branch(&c.params, &c.history, gn, gs, b);
+                    c.response
+                } else {
+                    law.on_branch(&c.params, &c.history, gn, gs, c.branch)
+                };
+                if resp.tn == 0.0 && resp.ts == 0.0 {
+                    continue;
+                }
+                c.scatter(-resp.tn, -resp.ts, r);
+                if mags {
+                    c.add_magnitudes(resp.tn, resp.ts, w);
                 }
             }
+            inconsistent
+        });
+        a + b.unwrap_or(0)
+    }
+
+    /// Run `pass` over the contacts — in two fixed halves from [`SPLIT_PRODUCT`] contacts
+    /// on (at once on two threads, one after the other on one): the first half adds into
+    /// `y` and `z`, the second into zeroed vectors of their sizes, added to them after —,
+    /// so that every sum is the same on any number of threads. Returns each half's result
+    /// (the second `None` below the split).
+    fn split_pass<R: Send>(
+        &mut self,
+        y: &mut [f64],
+        z: &mut [f64],
+        pass: impl Fn(&mut [Contact], &mut [f64], &mut [f64]) -> R + Sync + Send,
+    ) -> (R, Option<R>) {
+        let n = self.contacts.len();
+        if n < SPLIT_PRODUCT {
+            return (pass(&mut self.contacts, y, z), None);
         }
+        let half = &mut self.half;
+        half.clear();
+        half.resize(y.len() + z.len(), 0.0);
+        let (hy, hz) = half.split_at_mut(y.len());
+        let (first, second) = self.contacts.split_at_mut(n / 2);
+        let (a, b) = if self.threads.count() > 1 {
+            self.threads
+                .install(|| rayon::join(|| pass(first, &mut *y, &mut *z), || pass(second, hy, hz)))
+        } else {
+            (pass(first, y, z), pass(second, hy, hz))
+        };
+        let hy = &self.half[..y.len()];
+        for (yi, hi) in y.iter_mut().zip(hy) {
+            *yi += hi;
+        }
+        for (zi, hi) in z.iter_mut().zip(&self.half[y.len()..]) {
+            *zi += hi;
+        }
+        (a, Some(b))
     }
 
     /// The largest |b_N · v| or |b_S · v| over the contacts: how far a direction `v` moves any
     /// contact point relative to its edge.
     pub fn largest_relative_motion(&self, v: &[f64]) -> f64 {
-        self.contacts
-            .iter()
-            .map(|c| {
-                let (a, b) = c.rates(v);
-                a.abs().max(b.abs())
-            })
-            .fold(0.0, f64::max)
+        let part = |cs: &[Contact]| {
+            cs.iter()
+                .map(|c| {
+                    let (a, b) = c.rates(v);
+                    a.abs().max(b.abs())
+                })
+                .fold(0.0, f64::max)
+        };
+        let cs = &self.contacts;
+        if cs.len() < SPLIT_PRODUCT || self.threads.count() == 1 {
+            return part(cs);
+        }
+        // a largest value is the same whatever the split
+        let (first, second) = cs.split_at(cs.len() / 2);
+        let (a, b) = self
+            .threads
+            .install(|| rayon::join(|| part(first), || part(second)));
+        a.max(b)
     }
 
     /// y += K_c v with the tangent of the chosen branches (matrix-free).

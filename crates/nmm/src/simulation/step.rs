@@ -652,15 +652,14 @@ impl PiecewiseSystem for StepSystem<'_> {
 
     fn residual_on_chosen(&mut self, x: &[f64], r: &mut [f64]) {
         self.linear_residual(x, r);
-        self.contacts.add_forces(x, r, false);
+        self.contacts.add_forces(x, r, false, None);
         self.bolts.add_forces(x, r, false);
     }
 
     fn residual(&mut self, x: &[f64], r: &mut [f64]) -> usize {
         self.linear_residual(x, r);
-        let inconsistent = self.contacts.add_forces(x, r, true) + self.bolts.add_forces(x, r, true);
         // physical force scale: loads and weights, constraint reactions, contact forces
-        let w = &mut self.work;
+        let mut w = std::mem::take(&mut self.work);
         w.clear();
         w.extend_from_slice(self.f_ext_abs);
         for (p, &target) in self.penalties.iter().zip(self.targets) {
@@ -679,9 +678,11 @@ impl PiecewiseSystem for StepSystem<'_> {
                 w[p.dofs[i]] += f.abs();
             }
         }
-        self.contacts.add_force_magnitudes(w);
-        self.bolts.add_force_magnitudes(x, w);
+        let inconsistent =
+            self.contacts.add_forces(x, r, true, Some(&mut w)) + self.bolts.add_forces(x, r, true);
+        self.bolts.add_force_magnitudes(x, &mut w);
         self.scale = w.iter().map(|v| v * v).sum::<f64>().sqrt();
+        self.work = w;
         inconsistent
     }
 

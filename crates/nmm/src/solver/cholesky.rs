@@ -1393,6 +1393,20 @@ mod solve_tests {
                     .unwrap();
                 assert!(widest >= 2 * WIDE_SUPERNODE, "{widest}");
             }
+            if (nx, ny) == (90, 60) {
+                // the top of the split tree has a supernode whose updates are made in two
+                // halves of its rows (supernodal.rs `lu_top_supernode`)
+                let SymbolicCholeskyRaw::Supernodal(sn) = c.symbolic.as_ref().unwrap().raw() else {
+                    panic!("supernodal")
+                };
+                let (begin, end, val_ptr) = layout(sn);
+                let split = c.split.as_ref().expect("a split tree");
+                assert!(split
+                    .top
+                    .iter()
+                    .any(|&s| (val_ptr[s + 1] - val_ptr[s]) / (end[s] - begin[s])
+                        >= super::super::supernodal::SPLIT_TOP_ROWS));
+            }
             let (l, u) = (c.values.clone(), c.upper.clone());
             c.factorize_lu_on(&a, &two).unwrap();
             assert_eq!(

@@ -602,13 +602,19 @@ impl Cholesky {
         if update {
             let p = &a.pattern;
             for c in 0..p.n {
+                let col = p.col_ptr[c]..p.col_ptr[c + 1];
+                // most columns are unchanged: compared whole, as bits
+                if same_bits(&a.values[col.clone()], &self.previous[col.clone()]) {
+                    continue;
+                }
                 let j = self.inv[c];
-                for k in p.col_ptr[c]..p.col_ptr[c + 1] {
+                for k in col.clone() {
                     if a.values[k].to_bits() != self.previous[k].to_bits() {
                         let i = self.inv[p.row_idx[k]];
                         self.redo[self.sn_of[i.min(j)]] = true;
                     }
                 }
+                self.previous[col.clone()].copy_from_slice(&a.values[col]);
             }
             // ancestors after descendants: one pass
             for s in 0..self.redo.len() {
@@ -616,10 +622,12 @@ impl Cholesky {
                     self.redo[self.parent[s]] = true;
                 }
             }
-        } else if self.previous.len() != a.values.len() {
-            try_zeroed(&mut self.previous, a.values.len())?;
+        } else {
+            if self.previous.len() != a.values.len() {
+                try_zeroed(&mut self.previous, a.values.len())?;
+            }
+            self.previous.copy_from_slice(&a.values);
         }
-        self.previous.copy_from_slice(&a.values);
         Ok(())
     }
 
@@ -756,6 +764,12 @@ struct Placing<'a> {
     columns: &'a [usize],
     /// The supernodes to place.
     redo: &'a [bool],
+}
+
+/// Whether `a` and `b` hold the same bits (a changed value, even −0.0 for 0.0 or a NaN for
+/// itself, counts as a change).
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 /// A's entries of the lower triangle of P A Pᵀ placed in the factor's `values` (at

@@ -616,8 +616,11 @@ fn hole_list(v: &Value) -> Result<Vec<Vec<Vec2>>, String> {
 /// that no two blocks overlap.
 fn check_polygons(root: &Doc, blocks: &mut [Block], tol: f64) -> R<()> {
     for (i, b) in blocks.iter_mut().enumerate() {
-        let at = root.at("block", Some(i), Some("vertices"));
-        let err = |msg: String| error(format!("[[block]] {:?}: key `vertices`: {msg}{at}", b.name));
+        // (the place is looked up only for an error: a lookup counts the lines before it)
+        let err = |msg: String| {
+            let at = root.at("block", Some(i), Some("vertices"));
+            error(format!("[[block]] {:?}: key `vertices`: {msg}{at}", b.name))
+        };
         let n = b.vertices.len();
         // A zero area is reported after self-intersection (a symmetric bow-tie has zero area).
         let degenerate = degeneracy(&b.vertices, tol);

@@ -33,7 +33,7 @@ pub use broad::sweep_and_prune;
 /// the interfaces and not on the whole model: which blocks are fixed, the joint that made
 /// each face, the interface of a face, and the analysis' friction law. [`crate::model::Model`]
 /// implements it.
-pub trait InterfaceView {
+pub trait InterfaceView: Sync {
     /// Whether block `b` is fixed.
     fn is_fixed(&self, b: usize) -> bool;
     /// Whether some interface can apply to contacts between blocks `a` and `b`.

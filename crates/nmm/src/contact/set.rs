@@ -761,6 +761,159 @@ struct NewContact<'a> {
     joint: Option<usize>,
 }
 
+/// What a detection's pairs read: the current boundaries and the model's interfaces.
+struct DetectGeometry<'a> {
+    disc: &'a Discretisation,
+    model: &'a dyn InterfaceView,
+    /// Current boundary polylines and their corner flags, by block.
+    polys: &'a [Vec<Vec2>],
+    corners: &'a [Vec<bool>],
+    /// The bonded vertices held on their faces ([`held_edge`]), by (vertex block, edge
+    /// block).
+    held: &'a HashMap<(usize, usize), Vec<(usize, Vec2)>>,
+    search: f64,
+    has_midpoints: bool,
+}
+
+/// A contact a pair's search found (before [`ContactSet::push_contact`]).
+struct Found<'a> {
+    key: ContactKey,
+    segment: usize,
+    rows: (ContactRow<usize>, ContactRow<f64>, ContactRow<f64>),
+    gap: f64,
+    weight: f64,
+    frame: (Vec2, Vec2),
+    iface: &'a crate::model::Interface,
+    joint: Option<usize>,
+    /// The vertex's share of its neighbouring segments ([`tributary_share`]).
+    share: f64,
+}
+
+impl ContactSet {
+    /// The contacts of the vertices of block `pa` on the faces of block `pb` (local work of
+    /// a detection: reads the committed states only).
+    fn pair_contacts<'g>(
+        &self,
+        g: &DetectGeometry<'g>,
+        (pa, pb): (usize, usize),
+    ) -> Vec<Found<'g>> {
+        let (disc, model, polys, search) = (g.disc, g.model, g.polys, g.search);
+        let (la, lb) = (&disc.boundaries[pa].loops, &disc.boundaries[pb].loops);
+        let mut found = vertex_edge_contacts_loops(
+            (&polys[pa], la),
+            (&polys[pb], lb),
+            &g.corners[pa],
+            &NarrowParams::new(search),
+        );
+        if let Some(hs) = g.held.get(&(pa, pb)) {
+            for &(v, n_old) in hs {
+                if found.iter().any(|f| f.vertex == v) {
+                    continue;
+                }
+                if let Some(e) = held_edge(&polys[pa][v], (&polys[pb], lb), n_old, search) {
+                    found.push(VertexEdge { vertex: v, ..e });
+                }
+            }
+        }
+        let mut out = Vec::with_capacity(found.len());
+        for mut ve in found {
+            let key = (pa, ve.vertex, pb);
+            if let Some((_, _, n_old)) = self.committed.get(&key) {
+                // Corner against corner the entrance edge is nearly a tie; keep the
+                // edge the contact had while it still holds the vertex, so that the
+                // normal does not flip between steps (which pumps energy in).
+                if dot(*n_old, ve.normal) < 0.9 {
+                    if let Some(kept) =
+                        keep_edge(&polys[pa][ve.vertex], (&polys[pb], lb), *n_old, search)
+                    {
+                        ve = VertexEdge {
+                            vertex: ve.vertex,
+                            ..kept
+                        };
+                    }
+                }
+            }
+            // the face's joint (if a joint made it) chooses the interface
+            let edge = disc.boundaries[pb].segment_edges[ve.segment];
+            let joint = model.face_joint(pb, edge);
+            let Some(iface) = model.interface_for_face(pa, pb, joint) else {
+                continue;
+            };
+            let pb_poly = &polys[pb];
+            let p0 = pb_poly[ve.segment];
+            let (f0, f1) = self.faces[pb][ve.segment];
+            let s_lo = dot(sub(pb_poly[f0], p0), ve.tangent);
+            let s_hi = dot(sub(pb_poly[f1], p0), ve.tangent);
+            let share = tributary_share(
+                g.has_midpoints,
+                disc.boundaries[pa].vertices[ve.vertex].midpoint,
+            );
+            let lambda = tributary(
+                (&polys[pa], la),
+                ve.vertex,
+                share,
+                p0,
+                ve.tangent,
+                ve.normal,
+                s_lo.min(s_hi),
+                s_lo.max(s_hi),
+            );
+            let weight = 0.5 * lambda;
+            if weight <= 0.0 {
+                continue;
+            }
+            let vert = &disc.boundaries[pa].vertices[ve.vertex];
+            let eb = disc.boundaries[pb].segment_elements[ve.segment];
+            let q = crate::geometry::lerp(p0, pb_poly[disc.boundaries[pb].next(ve.segment)], ve.xi);
+            let wb = barycentric(&disc.elements[eb].nodes, q);
+            let rows = contact_rows(
+                disc,
+                (vert.at.element, &vert.at.weights),
+                (eb, &wb),
+                ve.normal,
+                ve.tangent,
+            );
+            out.push(Found {
+                key,
+                segment: ve.segment,
+                rows,
+                gap: ve.gap,
+                weight,
+                frame: (ve.normal, ve.tangent),
+                iface,
+                joint,
+                share,
+            });
+        }
+        out
+    }
+
+    /// Keep a contact a pair's search found ([`ContactSet::push_contact`]).
+    fn keep_found(&mut self, g: &DetectGeometry, density: f64, c: Found) {
+        let (pa, vertex, pb) = c.key;
+        let (polys, disc) = (g.polys, g.disc);
+        let (la, lb) = (&disc.boundaries[pa].loops, &disc.boundaries[pb].loops);
+        let tol = self.touch_tol;
+        let share = c.share;
+        self.push_contact(
+            g.model,
+            NewContact {
+                key: c.key,
+                segment: c.segment,
+                rows: c.rows,
+                gap: c.gap,
+                weight: c.weight,
+                density,
+                frame: c.frame,
+                position: polys[pa][vertex],
+                iface: c.iface,
+                joint: c.joint,
+            },
+            |s| insitu::force_on_vertex((&polys[pa], la), vertex, share, (&polys[pb], lb), s, tol),
+        );
+    }
+}
+
 impl ContactSet {
     /// Attach its springs, law and state to a contact found by a detection, and keep it:
     /// `insitu_force` is the force σ₀ puts on its vertex (only asked for a contact touching
@@ -941,6 +1094,9 @@ impl ContactSet {
         for v in held.values_mut() {
             v.sort_unstable_by_key(|x| x.0);
         }
+        // the ordered pairs (vertex block, edge block) to search, in the order of the
+        // contacts
+        let mut ordered = Vec::with_capacity(2 * pairs.len());
         for (a, b) in pairs {
             if model.is_fixed(a) && model.is_fixed(b) {
                 continue;
@@ -951,111 +1107,34 @@ impl ContactSet {
             if !model.may_contact(a, b) {
                 continue;
             }
-            for (pa, pb) in [(a, b), (b, a)] {
-                let (la, lb) = (&disc.boundaries[pa].loops, &disc.boundaries[pb].loops);
-                let mut found = vertex_edge_contacts_loops(
-                    (&polys[pa], la),
-                    (&polys[pb], lb),
-                    &corners[pa],
-                    &NarrowParams::new(search),
-                );
-                if let Some(hs) = held.get(&(pa, pb)) {
-                    for &(v, n_old) in hs {
-                        if found.iter().any(|f| f.vertex == v) {
-                            continue;
-                        }
-                        if let Some(e) = held_edge(&polys[pa][v], (&polys[pb], lb), n_old, search) {
-                            found.push(VertexEdge { vertex: v, ..e });
-                        }
-                    }
+            ordered.push((a, b));
+            ordered.push((b, a));
+        }
+        let geometry = DetectGeometry {
+            disc,
+            model,
+            polys: &polys,
+            corners: &corners,
+            held: &held,
+            search,
+            has_midpoints,
+        };
+        // local work (each pair's contacts: narrow phase, tributary lengths, rows) on the
+        // run's threads, then the contacts kept in order: the same on any thread count
+        if self.threads.count() > 1 {
+            let this = &*self;
+            let found = this
+                .threads
+                .map(ordered.len(), |k| this.pair_contacts(&geometry, ordered[k]));
+            for f in found {
+                for c in f {
+                    self.keep_found(&geometry, density, c);
                 }
-                for mut ve in found {
-                    let key = (pa, ve.vertex, pb);
-                    if let Some((_, _, n_old)) = self.committed.get(&key) {
-                        // Corner against corner the entrance edge is nearly a tie; keep the
-                        // edge the contact had while it still holds the vertex, so that the
-                        // normal does not flip between steps (which pumps energy in).
-                        if dot(*n_old, ve.normal) < 0.9 {
-                            if let Some(kept) =
-                                keep_edge(&polys[pa][ve.vertex], (&polys[pb], lb), *n_old, search)
-                            {
-                                ve = VertexEdge {
-                                    vertex: ve.vertex,
-                                    ..kept
-                                };
-                            }
-                        }
-                    }
-                    // the face's joint (if a joint made it) chooses the interface
-                    let edge = disc.boundaries[pb].segment_edges[ve.segment];
-                    let joint = model.face_joint(pb, edge);
-                    let Some(iface) = model.interface_for_face(pa, pb, joint) else {
-                        continue;
-                    };
-                    let pb_poly = &polys[pb];
-                    let p0 = pb_poly[ve.segment];
-                    let (f0, f1) = self.faces[pb][ve.segment];
-                    let s_lo = dot(sub(pb_poly[f0], p0), ve.tangent);
-                    let s_hi = dot(sub(pb_poly[f1], p0), ve.tangent);
-                    let share = tributary_share(
-                        has_midpoints,
-                        disc.boundaries[pa].vertices[ve.vertex].midpoint,
-                    );
-                    let lambda = tributary(
-                        (&polys[pa], la),
-                        ve.vertex,
-                        share,
-                        p0,
-                        ve.tangent,
-                        ve.normal,
-                        s_lo.min(s_hi),
-                        s_lo.max(s_hi),
-                    );
-                    let weight = 0.5 * lambda;
-                    if weight <= 0.0 {
-                        continue;
-                    }
-                    let vert = &disc.boundaries[pa].vertices[ve.vertex];
-                    let eb = disc.boundaries[pb].segment_elements[ve.segment];
-                    let q = crate::geometry::lerp(
-                        p0,
-                        pb_poly[disc.boundaries[pb].next(ve.segment)],
-                        ve.xi,
-                    );
-                    let wb = barycentric(&disc.elements[eb].nodes, q);
-                    let (dofs, bn, bs) = contact_rows(
-                        disc,
-                        (vert.at.element, &vert.at.weights),
-                        (eb, &wb),
-                        ve.normal,
-                        ve.tangent,
-                    );
-                    let tol = self.touch_tol;
-                    self.push_contact(
-                        model,
-                        NewContact {
-                            key,
-                            segment: ve.segment,
-                            rows: (dofs, bn, bs),
-                            gap: ve.gap,
-                            weight,
-                            density,
-                            frame: (ve.normal, ve.tangent),
-                            position: polys[pa][ve.vertex],
-                            iface,
-                            joint,
-                        },
-                        |s| {
-                            insitu::force_on_vertex(
-                                (&polys[pa], la),
-                                ve.vertex,
-                                share,
-                                (&polys[pb], lb),
-                                s,
-                                tol,
-                            )
-                        },
-                    );
+            }
+        } else {
+            for &pair in &ordered {
+                for c in self.pair_contacts(&geometry, pair) {
+                    self.keep_found(&geometry, density, c);
                 }
             }
         }

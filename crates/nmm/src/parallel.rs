@@ -11,7 +11,9 @@
 //! runs inline.
 
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 /// The environment variable that sets the default thread count.
 pub const THREADS_VAR: &str = "NMM_THREADS";
@@ -28,6 +30,16 @@ pub const THREADS_VAR: &str = "NMM_THREADS";
 /// faer's own parallel supernodal factorisation was slower on two threads than on one on
 /// the 40×40 wall's tangent: 34 against 26 ms).
 pub const MIN_PARALLEL: usize = 2048;
+
+/// How long a keeper of [`Threads::keep_warm`] waits for a job before it lets its thread
+/// sleep. A pool thread that sleeps takes 50–100 µs on this 2-core machine to wake when a
+/// job is pushed (measured: `rayon::join` of two 20 µs tasks 25 µs back to back, 56–86 µs
+/// after an idle gap of 50 µs to 1 ms; 21 µs at any gap with a keeper), and a Newton
+/// iteration of a 20×20 wall has about ten parallel loops of 20–400 µs with serial work
+/// between them. Every step asks for keepers (simulation: `Simulation::advance`): the
+/// other threads spin while a run goes on, as OpenMP's active wait policy does, and sleep
+/// again 10 ms after it (or during a longer pause, such as writing outputs).
+pub const KEEP_WARM: Duration = Duration::from_millis(10);
 
 /// The default thread count: `NMM_THREADS` if set, else the cores the process may use.
 /// A malformed `NMM_THREADS` is an error naming it.
@@ -50,6 +62,8 @@ pub fn parse_threads(v: &str) -> Result<usize, String> {
 #[derive(Clone, Default)]
 pub struct Threads {
     pool: Option<Arc<rayon::ThreadPool>>,
+    /// Keepers of [`Threads::keep_warm`] running.
+    keepers: Arc<AtomicUsize>,
 }
 
 impl std::fmt::Debug for Threads {
@@ -62,7 +76,7 @@ impl Threads {
     /// `n` threads (1: none besides the caller's).
     pub fn new(n: usize) -> Result<Threads, String> {
         if n <= 1 {
-            return Ok(Threads { pool: None });
+            return Ok(Threads::default());
         }
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(n)
@@ -71,6 +85,7 @@ impl Threads {
             .map_err(|e| format!("cannot start {n} threads: {e}"))?;
         Ok(Threads {
             pool: Some(Arc::new(pool)),
+            keepers: Default::default(),
         })
     }
 
@@ -84,6 +99,37 @@ impl Threads {
         match &self.pool {
             Some(p) => p.install(f),
             None => f(),
+        }
+    }
+
+    /// Keep the pool's other threads looking for work: each runs a keeper that takes the
+    /// pool's pending jobs ([`rayon::yield_now`]) and spins between them, until it has
+    /// found none for [`KEEP_WARM`] (see there for why). Keepers still running are not
+    /// started again: a run that asks at every step starts them once. Nothing with one
+    /// thread.
+    pub fn keep_warm(&self) {
+        let Some(p) = &self.pool else {
+            return;
+        };
+        let creator = rayon::current_thread_index();
+        while self.keepers.load(Ordering::Acquire) + 1 < p.current_num_threads() {
+            self.keepers.fetch_add(1, Ordering::AcqRel);
+            let live = self.keepers.clone();
+            p.spawn(move || {
+                // a keeper taken up by the thread that asked for it (while it waits in a
+                // join) would hold that thread: it ends at once there
+                if creator.is_none() || rayon::current_thread_index() != creator {
+                    let mut last = Instant::now();
+                    loop {
+                        match rayon::yield_now() {
+                            Some(rayon::Yield::Executed) => last = Instant::now(),
+                            _ if last.elapsed() > KEEP_WARM => break,
+                            _ => std::hint::spin_loop(),
+                        }
+                    }
+                }
+                live.fetch_sub(1, Ordering::AcqRel);
+            });
         }
     }
 

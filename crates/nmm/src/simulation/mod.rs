@@ -583,6 +583,8 @@ impl Simulation {
     /// current interval of Δt (all of it unless an earlier step was cut). When the current
     /// stage is complete, the step is the first of the next stage.
     pub fn advance(&mut self) -> Result<StepReport, StepError> {
+        // the other threads stay awake for the step's parallel loops
+        self.threads.keep_warm();
         if self.stage_finished() && self.stage + 1 < self.model.stages.len() {
             self.begin_next_stage();
         }

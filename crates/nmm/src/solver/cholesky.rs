@@ -935,6 +935,13 @@ pub(super) struct Split {
     owner: Vec<u8>,
 }
 
+impl Split {
+    /// The owner of column `j`: 0 or 1 (a part), 2 (the top).
+    pub fn owner(&self, j: usize) -> u8 {
+        self.owner[j]
+    }
+}
+
 /// Smallest factor (stored values) whose solves are split ([`split_tree`]): below it the
 /// copies of x and the join cost about what the second thread saves (a 1,000-unknown arch's
 /// factor holds 26,000 values, a 40×40 wall's 940,000).
@@ -1066,6 +1073,8 @@ pub(super) struct PartWork {
     below: Vec<f64>,
     /// The numeric factorisation's workspace ([`super::supernodal`]).
     pub factor: FactorWork,
+    /// The LU's updates of the top's supernodes from this part's ([`super::supernodal`]).
+    pub top_sums: Vec<f64>,
 }
 
 /// [`supernodal_solve`] over a [`Split`]: the two parts' forward steps (each on its own copy

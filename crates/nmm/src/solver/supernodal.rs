@@ -12,8 +12,12 @@
 //! A supernode's descendants lie in its own subtree, so the two parts of a split tree
 //! (cholesky.rs `split_tree`: whole subtrees) are factorised by two threads with nothing
 //! shared but the finished factor they read, and then the top, whose descendants are in
-//! both (the LU's large top supernodes by two threads again, each updating half of their
-//! rows: `lu_top_supernode`). Each supernode's operations and their order are the same whichever thread does
+//! both. For the LU, each part's thread then sums its part's updates of the top's
+//! supernodes apart (a part's `top_sums`), and the top adds both sums to its A entries
+//! before the updates of its own descendants — by two threads again for a large supernode,
+//! each updating half of its rows (`lu_top_supernode`). The sums are in a fixed order
+//! whatever the thread count (A + part 0's + part 1's, then the top's own, each in
+//! increasing order), so that the factor is the same on one thread and on two. Each supernode's operations and their order are the same whichever thread does
 //! them: the factor does not depend on the thread count, bit for bit.
 //!
 //! For the same reason a held factor can be **updated**: only the supernodes whose columns
@@ -214,7 +218,15 @@ pub(super) fn factorize(
         // SAFETY: s is this thread's; its descendants are finished (see `Values`)
         unsafe { factor_supernode(sn, plan, &shared, s, w) }
     };
-    in_tree_order(sn, schedule, work, threads, kernel, |s, w, _| kernel(s, w))
+    in_tree_order(
+        sn,
+        schedule,
+        work,
+        threads,
+        kernel,
+        |_, _| true,
+        |s, w, _| kernel(s, &mut w.factor),
+    )
 }
 
 /// The LU factorisation without pivoting A = L U of a matrix with the symmetric pattern of
@@ -243,6 +255,23 @@ pub(super) fn factorize_lu(
     let l = Values(lower.as_mut_ptr(), lower.len());
     let u = Values(upper.as_mut_ptr(), upper.len());
     let (l, u) = (&l, &u);
+    // the top's supernodes and the places of their sums in a part's `top_sums`
+    let (begin, _, val_ptr) = layout(sn);
+    let mut top_places = Vec::new();
+    if let Some(split) = schedule.split {
+        let mut at = 0;
+        for &s in &split.top {
+            let size = val_ptr[s + 1] - val_ptr[s];
+            top_places.push((s, at, size));
+            at += 2 * size;
+        }
+        for w in work.iter_mut() {
+            if w.top_sums.len() != at {
+                try_zeroed(&mut w.top_sums, at)?;
+            }
+        }
+    }
+    let part_of = |d: usize| schedule.split.map_or(2, |sp| sp.owner(begin[d]));
     in_tree_order(
         sn,
         schedule,
@@ -250,8 +279,39 @@ pub(super) fn factorize_lu(
         threads,
         // SAFETY: as in `factorize`, for both arrays
         |s, w| unsafe { lu_supernode(sn, plan, (l, u), s, w) },
+        // a part's updates of the top's supernodes, into its `top_sums`
+        |p, w| {
+            for &(s, at, size) in &top_places {
+                if !schedule.redo[s] {
+                    continue;
+                }
+                let (ls, us) = w.top_sums[at..at + 2 * size].split_at_mut(size);
+                ls.iter_mut().for_each(|x| *x = 0.0);
+                us.iter_mut().for_each(|x| *x = 0.0);
+                // SAFETY: the part's supernodes are finished; the sums are this part's own
+                unsafe {
+                    lu_updates(
+                        sn,
+                        plan,
+                        (l, u),
+                        s,
+                        &mut w.factor,
+                        0..usize::MAX,
+                        (ls.as_mut_ptr(), us.as_mut_ptr()),
+                        |d| part_of(d) as usize == p,
+                    )
+                };
+            }
+            true
+        },
         // SAFETY: as in `factorize`; the two halves write disjoint rows of s
-        |s, w0, w1| unsafe { lu_top_supernode(sn, plan, (l, u), s, [w0, w1], threads) },
+        |s, w0, w1| unsafe {
+            let &(_, at, size) = top_places
+                .iter()
+                .find(|t| t.0 == s)
+                .expect("a top supernode");
+            lu_top_supernode(sn, plan, (l, u), s, [w0, w1], (at, size), &part_of, threads)
+        },
     )
     .map_err(|_| SolveError::Singular)
 }
@@ -268,8 +328,8 @@ pub(super) struct Schedule<'a> {
 
 /// `kernel(s, work)` for every supernode s the schedule's `redo` marks, in an order in
 /// which descendants come first: the parts of its split on two of `threads` (if it has
-/// two), then the top by `top_kernel` (given both parts' workspaces); without a split all
-/// in order on the calling thread. Stops at the first kernel that fails
+/// two), each followed by `part_tail(part, work)`, then the top by `top_kernel` (given both
+/// parts' workspaces); without a split all in order on the calling thread. Stops at the first kernel that fails
 /// (`Err(NotPositiveDefinite)`).
 fn in_tree_order(
     sn: &SupernodalSymbolic,
@@ -277,7 +337,8 @@ fn in_tree_order(
     work: &mut [PartWork; 2],
     threads: &crate::parallel::Threads,
     kernel: impl Fn(usize, &mut FactorWork) -> bool + Sync,
-    top_kernel: impl Fn(usize, &mut FactorWork, &mut FactorWork) -> bool,
+    part_tail: impl Fn(usize, &mut PartWork) -> bool + Sync,
+    top_kernel: impl Fn(usize, &mut PartWork, &mut PartWork) -> bool,
 ) -> Result<(), SolveError> {
     // (a failure must not outlive its factorisation: it once did, and every later
     // factorisation on the same analysis was refused)
@@ -297,7 +358,12 @@ fn in_tree_order(
             let [w0, w1] = work;
             on_both(
                 threads,
-                |p, w| run(&mut split.parts[p].iter().copied(), &mut w.factor),
+                |p, w| {
+                    run(&mut split.parts[p].iter().copied(), &mut w.factor);
+                    if !w.factor.failed && !part_tail(p, w) {
+                        w.factor.failed = true;
+                    }
+                },
                 w0,
                 w1,
             );
@@ -306,7 +372,7 @@ fn in_tree_order(
             }
             let [w0, w1] = work;
             for &s in split.top.iter().filter(|&&s| redo[s]) {
-                if !top_kernel(s, &mut w0.factor, &mut w1.factor) {
+                if !top_kernel(s, w0, w1) {
                     w0.factor.failed = true;
                     break;
                 }
@@ -368,7 +434,11 @@ unsafe fn for_each_update(
 /// whole supernode's updates (the factor is byte-identical to the unsplit one's on the
 /// walls). Measured (2026-12-05, 40×40 wall, 12 steps, medians of 5 alternated runs): two
 /// threads 65.3 → 62.8 ms a step (the top 1.74 → 1.54 ms a refresh: each half still visits
-/// every descendant), one thread 82.7 → 82.8.
+/// every descendant), one thread 82.7 → 82.8. Then the parts' sums of their updates of the
+/// top (made on the parts' threads): 40×40 wall 59.8 → 57.0 ms a step, 30×30 27.0 → 26.5,
+/// jointed slope ~1,000 blocks 164.6 → 168.5 (within its noise: its top's refresh 5.9 →
+/// 2.2 ms, but its parts are uneven, 3.5 and 1.6 ms, and a part with nothing to redo still
+/// sums all its updates of the top).
 pub(super) const SPLIT_TOP_ROWS: usize = 128;
 
 /// LU-factorise supernode `s` (see [`factorize_lu`]). Returns false at a pivot that is
@@ -382,55 +452,116 @@ unsafe fn lu_supernode(
     s: usize,
     w: &mut FactorWork,
 ) -> bool {
-    lu_updates(sn, plan, (lower, upper), s, w, 0..usize::MAX);
+    let val_ptr = layout(sn).2;
+    let targets = (lower.0.add(val_ptr[s]), upper.0.add(val_ptr[s]));
+    lu_updates(
+        sn,
+        plan,
+        (lower, upper),
+        s,
+        w,
+        0..usize::MAX,
+        targets,
+        |_| true,
+    );
     lu_panel(sn, (lower, upper), s, None)
 }
 
-/// [`lu_supernode`] for a supernode of the top of a split tree: with
-/// [`SPLIT_TOP_ROWS`] rows or more, the updates of its rows in two halves (of about equal
-/// work), with `w[0]` and `w[1]`, on two of `threads` if it has them; the panel's two
-/// triangular solves likewise.
+/// [`lu_supernode`] for a supernode of the top of a split tree: its A entries plus the
+/// parts' sums of their updates (made by the parts' threads after their own supernodes:
+/// `top_sums` at `place`, L's then Uᵀ's), less the updates of its descendants in the top —
+/// with [`SPLIT_TOP_ROWS`] rows or more in two halves of its rows (of about equal work),
+/// with `w[0]` and `w[1]`, on two of `threads` if it has them —, then its panel (the two
+/// triangular solves likewise).
 ///
 /// SAFETY: as for [`lu_supernode`].
+#[allow(clippy::too_many_arguments)]
 unsafe fn lu_top_supernode(
     sn: &SupernodalSymbolic,
     plan: &FactorPlan,
     (lower, upper): (&Values, &Values),
     s: usize,
-    [w0, w1]: [&mut FactorWork; 2],
+    [w0, w1]: [&mut PartWork; 2],
+    (place, size): (usize, usize),
+    part_of: &(impl Fn(usize) -> u8 + Sync),
     threads: &crate::parallel::Threads,
 ) -> bool {
     let (begin, end, val_ptr) = layout(sn);
     let sw = end[s] - begin[s];
     let srows = (val_ptr[s + 1] - val_ptr[s]) / sw;
+    {
+        let ls = lower.get_mut(val_ptr[s], val_ptr[s + 1]);
+        let us = upper.get_mut(val_ptr[s], val_ptr[s + 1]);
+        let (l0, u0) = w0.top_sums[place..place + 2 * size].split_at(size);
+        let (l1, u1) = w1.top_sums[place..place + 2 * size].split_at(size);
+        for ((x, a), b) in ls.iter_mut().zip(l0).zip(l1) {
+            *x = (*x + a) + b;
+        }
+        for ((x, a), b) in us.iter_mut().zip(u0).zip(u1) {
+            *x = (*x + a) + b;
+        }
+    }
+    let targets = (lower.0.add(val_ptr[s]), upper.0.add(val_ptr[s]));
+    let in_top = |d: usize| part_of(d) == 2;
     if srows < SPLIT_TOP_ROWS {
-        return lu_supernode(sn, plan, (lower, upper), s, w0);
+        let w = &mut w0.factor;
+        lu_updates(
+            sn,
+            plan,
+            (lower, upper),
+            s,
+            w,
+            0..usize::MAX,
+            targets,
+            in_top,
+        );
+        return lu_panel(sn, (lower, upper), s, Some(threads));
     }
     // rows of the diagonal block take L's updates, those below it L's and Uᵀ's
     let half = (sw + 2 * (srows - sw)) / 2;
-    let at = if half <= sw {
+    let cut = if half <= sw {
         half
     } else {
         sw + (half - sw) / 2
     };
+    let targets = (SendPtr(targets.0), SendPtr(targets.1));
     let one = |rows: std::ops::Range<usize>, w: &mut FactorWork| {
+        let t = (targets.0.get(), targets.1.get());
         // SAFETY: the halves write disjoint rows of s; see the function's contract
-        unsafe { lu_updates(sn, plan, (lower, upper), s, w, rows) }
+        unsafe { lu_updates(sn, plan, (lower, upper), s, w, rows, t, in_top) }
     };
+    let (f0, f1) = (&mut w0.factor, &mut w1.factor);
     if threads.count() > 1 {
-        threads.install(|| rayon::join(|| one(0..at, w0), || one(at..srows, w1)));
+        threads.install(|| rayon::join(|| one(0..cut, f0), || one(cut..srows, f1)));
     } else {
-        one(0..at, w0);
-        one(at..srows, w1);
+        one(0..cut, f0);
+        one(cut..srows, f1);
     }
     lu_panel(sn, (lower, upper), s, Some(threads))
 }
 
-/// Supernode `s`'s L columns and Uᵀ rows less its descendants' updates, in its local rows
-/// `rows` only (each entry's operations are the same whatever the range).
+/// A pointer into the factor's values that the halves of [`lu_top_supernode`] share (they
+/// write disjoint rows).
+#[derive(Clone, Copy)]
+struct SendPtr(*mut f64);
+
+impl SendPtr {
+    fn get(self) -> *mut f64 {
+        self.0
+    }
+}
+
+// SAFETY: see the type's docs
+unsafe impl Sync for SendPtr {}
+unsafe impl Send for SendPtr {}
+
+/// Supernode `s`'s L columns and Uᵀ rows (at `targets`: blocks of s's layout) less the
+/// updates of its descendants that `keep` keeps, in its local rows `rows` only (each
+/// entry's operations are the same whatever the range).
 ///
 /// SAFETY: as for [`factor_supernode`], for both arrays; no other thread writes the rows
-/// `rows` of s.
+/// `rows` of the targets.
+#[allow(clippy::too_many_arguments)]
 unsafe fn lu_updates(
     sn: &SupernodalSymbolic,
     plan: &FactorPlan,
@@ -438,13 +569,16 @@ unsafe fn lu_updates(
     s: usize,
     w: &mut FactorWork,
     rows: std::ops::Range<usize>,
+    (ls, us): (*mut f64, *mut f64),
+    keep: impl Fn(usize) -> bool,
 ) {
     let (begin, end, val_ptr) = layout(sn);
     let sw = end[s] - begin[s];
     let srows = sw + sn.supernode(s).pattern().len();
-    let ls = lower.0.add(val_ptr[s]);
-    let us = upper.0.add(val_ptr[s]);
     for_each_update(sn, plan, s, w, |d, first, mid, below, rel, block| {
+        if !keep(d) {
+            return;
+        }
         let (dw, drows) = (end[d] - begin[d], val_ptr[d + 1] - val_ptr[d]);
         let drows = drows / dw;
         let ld = MatRef::from_column_major_slice(lower.get(val_ptr[d], val_ptr[d + 1]), drows, dw);

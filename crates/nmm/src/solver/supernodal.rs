@@ -452,19 +452,24 @@ unsafe fn lu_supernode(
     s: usize,
     w: &mut FactorWork,
 ) -> bool {
+    own_updates(sn, plan, (lower, upper), s, w, |_| true);
+    lu_panel(sn, (lower, upper), s, None)
+}
+
+/// [`lu_updates`] of all of supernode `s`'s rows, in its own values.
+///
+/// SAFETY: as for [`lu_supernode`].
+unsafe fn own_updates(
+    sn: &SupernodalSymbolic,
+    plan: &FactorPlan,
+    (lower, upper): (&Values, &Values),
+    s: usize,
+    w: &mut FactorWork,
+    keep: impl Fn(usize) -> bool,
+) {
     let val_ptr = layout(sn).2;
     let targets = (lower.0.add(val_ptr[s]), upper.0.add(val_ptr[s]));
-    lu_updates(
-        sn,
-        plan,
-        (lower, upper),
-        s,
-        w,
-        0..usize::MAX,
-        targets,
-        |_| true,
-    );
-    lu_panel(sn, (lower, upper), s, None)
+    lu_updates(sn, plan, (lower, upper), s, w, 0..usize::MAX, targets, keep);
 }
 
 /// [`lu_supernode`] for a supernode of the top of a split tree: its A entries plus the
@@ -501,22 +506,12 @@ unsafe fn lu_top_supernode(
             *x = (*x + a) + b;
         }
     }
-    let targets = (lower.0.add(val_ptr[s]), upper.0.add(val_ptr[s]));
     let in_top = |d: usize| part_of(d) == 2;
     if srows < SPLIT_TOP_ROWS {
-        let w = &mut w0.factor;
-        lu_updates(
-            sn,
-            plan,
-            (lower, upper),
-            s,
-            w,
-            0..usize::MAX,
-            targets,
-            in_top,
-        );
+        own_updates(sn, plan, (lower, upper), s, &mut w0.factor, in_top);
         return lu_panel(sn, (lower, upper), s, Some(threads));
     }
+    let targets = (lower.0.add(val_ptr[s]), upper.0.add(val_ptr[s]));
     // rows of the diagonal block take L's updates, those below it L's and Uᵀ's
     let half = (sw + 2 * (srows - sw)) / 2;
     let cut = if half <= sw {

@@ -424,6 +424,9 @@ pub struct ContactSet {
     /// The second half's sums of a pass over the contacts ([`ContactSet::split_pass`];
     /// kept: a fresh allocation of that size is fresh pages every pass).
     half: Vec<f64>,
+    /// Each contact's dissipation in the last commit (a workspace of
+    /// [`ContactSet::commit`]).
+    dissipated: Vec<StepDissipation>,
     /// Gaps up to this count as touching (`REL_TOL` × the model's size).
     touch_tol: f64,
     /// Mean length of the boundary segments of the model's blocks, s̄ (m).
@@ -524,6 +527,7 @@ impl Default for ContactSet {
             unsymmetric: 0,
             threads: Default::default(),
             half: Vec::new(),
+            dissipated: Vec::new(),
             touch_tol: 0.0,
             spacing: 0.0,
             commits: 0,
@@ -1539,18 +1543,40 @@ impl ContactSet {
         self.committed.clear();
         self.seen.clear();
         self.dissipation = StepDissipation::default();
-        for c in self.contacts.iter_mut() {
+        // local work (each contact's response, dissipation and new state) on the run's
+        // threads, then the sums and the maps in contact order
+        let mut dissipated = std::mem::take(&mut self.dissipated);
+        dissipated.clear();
+        dissipated.resize(self.contacts.len(), StepDissipation::default());
+        {
+            let cs = &mut self.contacts;
+            let pass = |cs: &mut [Contact], ds: &mut [StepDissipation]| {
+                for (c, d) in cs.iter_mut().zip(ds.iter_mut()) {
+                    let law = c.law.law();
+                    let (gn, gs) = c.gaps(du);
+                    c.response = law.response(&c.params, &c.history, gn, gs);
+                    *d = step_dissipation(c, gn, gs);
+                    c.history = law.commit(&c.params, &c.history, &c.response);
+                }
+            };
+            let n = cs.len();
+            if n >= SPLIT_PRODUCT && self.threads.count() > 1 {
+                let (c0, c1) = cs.split_at_mut(n / 2);
+                let (d0, d1) = dissipated.split_at_mut(n / 2);
+                self.threads
+                    .install(|| rayon::join(|| pass(c0, d0), || pass(c1, d1)));
+            } else {
+                pass(cs, &mut dissipated);
+            }
+        }
+        for (c, d) in self.contacts.iter().zip(&dissipated) {
             let law = c.law.law();
             self.seen.insert(c.key);
-            let (gn, gs) = c.gaps(du);
-            c.response = law.response(&c.params, &c.history, gn, gs);
-            let d = step_dissipation(c, gn, gs);
             self.dissipation.friction += d.friction;
             self.dissipation.damping += d.damping;
             self.dissipation.algorithmic += d.algorithmic;
             self.dissipation.start_energy += d.start_energy;
-            let h = law.commit(&c.params, &c.history, &c.response);
-            c.history = h;
+            let h = c.history;
             if c.response.status != ContactStatus::Open {
                 self.committed.insert(c.key, (c.law, h, c.normal));
             }
@@ -1560,6 +1586,7 @@ impl ContactSet {
                 self.lasting.remove(&c.key);
             }
         }
+        self.dissipated = dissipated;
     }
 
     /// Bonds of the contacts under a law with bonds, as committed: (intact, among the

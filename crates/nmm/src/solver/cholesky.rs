@@ -528,33 +528,32 @@ impl Cholesky {
         if self.upper.len() != len {
             try_zeroed(&mut self.upper, len)?;
         }
-        let placing = Placing {
-            sn,
-            plan,
-            gather: &self.gather,
-            columns: &self.lower_col_ptr,
-            redo: &self.redo,
-        };
-        place_lower(&mut self.values, placing, a);
-        let (_, _, val_ptr) = layout(sn);
-        for (s, _) in self.redo.iter().enumerate().filter(|r| *r.1) {
-            self.upper[val_ptr[s]..val_ptr[s + 1]]
-                .iter_mut()
-                .for_each(|v| *v = 0.0);
-            let (begin, end) = (sn.supernode_begin()[s], sn.supernode_end()[s]);
-            let slots = self.lower_col_ptr[begin]..self.lower_col_ptr[end];
-            for &(m, place) in &self.mirror[slots] {
-                if place == usize::MAX {
+        // each supernode's entries of A placed by the thread that factorises it, just
+        // before (the fill zero): L's lower triangle and the diagonal block's upper part,
+        // Uᵀ's rows below it (`mirror`)
+        let (begin, end, val_ptr) = layout(sn);
+        let (gather, mirror, columns, values) =
+            (&self.gather, &self.mirror, &self.lower_col_ptr, &a.values);
+        let place = |s: usize, ls: &mut [f64], us: &mut [f64]| {
+            let base = val_ptr[s];
+            ls.iter_mut().for_each(|v| *v = 0.0);
+            us.iter_mut().for_each(|v| *v = 0.0);
+            let slots = columns[begin[s]]..columns[end[s]];
+            for (&t, &k) in plan.place[slots.clone()].iter().zip(&gather[slots.clone()]) {
+                ls[t - base] = values[k as usize];
+            }
+            for &(m, at) in &mirror[slots] {
+                if at == usize::MAX {
                     continue;
                 }
-                let v = a.values[m as usize];
-                if place < len {
-                    self.values[place] = v;
+                let v = values[m as usize];
+                if at < len {
+                    ls[at - base] = v;
                 } else {
-                    self.upper[place - len] = v;
+                    us[at - len - base] = v;
                 }
             }
-        }
+        };
         super::supernodal::factorize_lu(
             sn,
             plan,
@@ -562,8 +561,8 @@ impl Cholesky {
                 split: self.split.as_ref(),
                 redo: &self.redo,
             },
-            &mut self.values,
-            &mut self.upper,
+            (&mut self.values, &mut self.upper),
+            &place,
             &mut self.part_work,
             threads,
         )?;

@@ -231,8 +231,10 @@ pub(super) fn factorize(
 
 /// The LU factorisation without pivoting A = L U of a matrix with the symmetric pattern of
 /// the analysis, L's values in `lower` and Uᵀ's in `upper`, both in the Cholesky factor's
-/// layout (A's entries placed: its lower triangle and its upper one within the diagonal
-/// blocks in `lower`, the rest of its upper triangle, transposed, in `upper`). L holds the
+/// layout (A's entries placed by `place(s, L's block, Uᵀ's block)` just before supernode
+/// s is factorised, on the thread that factorises it: its lower triangle and its upper
+/// one within the diagonal blocks in `lower`, the rest of its upper triangle, transposed,
+/// in `upper`, the fill zero). L holds the
 /// pivots on its diagonal, U a unit diagonal (stored): the solves are then the Cholesky
 /// factor's, forward with L and backward with (Uᵀ)ᵀ (cholesky.rs `supernodal_solve`).
 /// Left-looking as [`factorize`]: each supernode's L columns and Uᵀ rows less the updates
@@ -247,8 +249,8 @@ pub(super) fn factorize_lu(
     sn: &SupernodalSymbolic,
     plan: &FactorPlan,
     schedule: Schedule,
-    lower: &mut [f64],
-    upper: &mut [f64],
+    (lower, upper): (&mut [f64], &mut [f64]),
+    place: &PlaceEntries,
     work: &mut [PartWork; 2],
     threads: &crate::parallel::Threads,
 ) -> Result<(), SolveError> {
@@ -272,13 +274,24 @@ pub(super) fn factorize_lu(
         }
     }
     let part_of = |d: usize| schedule.split.map_or(2, |sp| sp.owner(begin[d]));
+    // SAFETY (of every use): s is the calling thread's (see `Values`)
+    let place_own = |s: usize| unsafe {
+        place(
+            s,
+            l.get_mut(val_ptr[s], val_ptr[s + 1]),
+            u.get_mut(val_ptr[s], val_ptr[s + 1]),
+        )
+    };
     in_tree_order(
         sn,
         schedule,
         work,
         threads,
         // SAFETY: as in `factorize`, for both arrays
-        |s, w| unsafe { lu_supernode(sn, plan, (l, u), s, w) },
+        |s, w| {
+            place_own(s);
+            unsafe { lu_supernode(sn, plan, (l, u), s, w) }
+        },
         // a part's updates of the top's supernodes, into its `top_sums`
         |p, w| {
             for &(s, at, size) in &top_places {
@@ -306,6 +319,7 @@ pub(super) fn factorize_lu(
         },
         // SAFETY: as in `factorize`; the two halves write disjoint rows of s
         |s, w0, w1| unsafe {
+            place_own(s);
             let &(_, at, size) = top_places
                 .iter()
                 .find(|t| t.0 == s)
@@ -315,6 +329,9 @@ pub(super) fn factorize_lu(
     )
     .map_err(|_| SolveError::Singular)
 }
+
+/// Places a supernode's entries of A in its blocks of L and Uᵀ ([`factorize_lu`]).
+pub(super) type PlaceEntries<'a> = dyn Fn(usize, &mut [f64], &mut [f64]) + Sync + 'a;
 
 /// Which supernodes a factorisation computes, and how it shares them out.
 #[derive(Clone, Copy)]

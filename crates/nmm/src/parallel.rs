@@ -141,6 +141,20 @@ impl Threads {
         }
     }
 
+    /// `(a(), b())`: at once on two threads when the run has them, else one after the
+    /// other (the work split in two fixed parts: the result does not depend on the thread
+    /// count).
+    pub fn join<A: Send, B: Send>(
+        &self,
+        a: impl FnOnce() -> A + Send,
+        b: impl FnOnce() -> B + Send,
+    ) -> (A, B) {
+        match &self.pool {
+            Some(p) => p.install(|| rayon::join(a, b)),
+            None => (a(), b()),
+        }
+    }
+
     /// `(0..n).map(f)` collected in order, computed on the run's threads.
     pub fn map<T: Send>(&self, n: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
         match &self.pool {

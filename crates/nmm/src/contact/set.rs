@@ -1347,12 +1347,9 @@ impl ContactSet {
         half.resize(y.len() + z.len(), 0.0);
         let (hy, hz) = half.split_at_mut(y.len());
         let (first, second) = self.contacts.split_at_mut(n / 2);
-        let (a, b) = if self.threads.count() > 1 {
-            self.threads
-                .install(|| rayon::join(|| pass(first, &mut *y, &mut *z), || pass(second, hy, hz)))
-        } else {
-            (pass(first, y, z), pass(second, hy, hz))
-        };
+        let (a, b) = self
+            .threads
+            .join(|| pass(first, &mut *y, &mut *z), || pass(second, hy, hz));
         let hy = &self.half[..y.len()];
         for (yi, hi) in y.iter_mut().zip(hy) {
             *yi += hi;
@@ -1380,9 +1377,7 @@ impl ContactSet {
         }
         // a largest value is the same whatever the split
         let (first, second) = cs.split_at(cs.len() / 2);
-        let (a, b) = self
-            .threads
-            .install(|| rayon::join(|| part(first), || part(second)));
+        let (a, b) = self.threads.join(|| part(first), || part(second));
         a.max(b)
     }
 
@@ -1408,13 +1403,8 @@ impl ContactSet {
             guard.clear();
             guard.resize(y.len(), 0.0);
             let h: &mut [f64] = &mut guard;
-            if self.threads.count() > 1 {
-                self.threads
-                    .install(|| rayon::join(|| pass(first, y), || pass(second, &mut *h)));
-            } else {
-                pass(first, y);
-                pass(second, h);
-            }
+            self.threads
+                .join(|| pass(first, &mut *y), || pass(second, &mut *h));
             for (yi, hi) in y.iter_mut().zip(h.iter()) {
                 *yi += hi;
             }
@@ -1563,8 +1553,7 @@ impl ContactSet {
             if n >= SPLIT_PRODUCT && self.threads.count() > 1 {
                 let (c0, c1) = cs.split_at_mut(n / 2);
                 let (d0, d1) = dissipated.split_at_mut(n / 2);
-                self.threads
-                    .install(|| rayon::join(|| pass(c0, d0), || pass(c1, d1)));
+                self.threads.join(|| pass(c0, d0), || pass(c1, d1));
             } else {
                 pass(cs, &mut dissipated);
             }

@@ -1055,12 +1055,7 @@ pub(super) fn on_both(
     w0: &mut PartWork,
     w1: &mut PartWork,
 ) {
-    if threads.count() > 1 {
-        threads.install(|| rayon::join(|| f(0, w0), || f(1, w1)));
-    } else {
-        f(0, w0);
-        f(1, w1);
-    }
+    threads.join(|| f(0, w0), || f(1, w1));
 }
 
 /// Per-part workspaces of [`solve_split`]: a copy of x, the contributions to the top's

@@ -543,12 +543,7 @@ unsafe fn lu_top_supernode(
         unsafe { lu_updates(sn, plan, (lower, upper), s, w, rows, t, in_top) }
     };
     let (f0, f1) = (&mut w0.factor, &mut w1.factor);
-    if threads.count() > 1 {
-        threads.install(|| rayon::join(|| one(0..cut, f0), || one(cut..srows, f1)));
-    } else {
-        one(0..cut, f0);
-        one(cut..srows, f1);
-    }
+    threads.join(|| one(0..cut, f0), || one(cut..srows, f1));
     lu_panel(sn, (lower, upper), s, Some(threads))
 }
 
@@ -677,10 +672,10 @@ unsafe fn lu_panel(
             )
         };
         match threads {
-            Some(t) if t.count() > 1 => {
-                t.install(|| rayon::join(l, u));
+            Some(t) => {
+                t.join(l, u);
             }
-            _ => {
+            None => {
                 l();
                 u();
             }

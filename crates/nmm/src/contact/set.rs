@@ -273,6 +273,19 @@ impl Contact {
     /// least the cover's weight, at most √2 times it, for order 0). The tangent applied to
     /// a vector keeps every row: only the factorised matrix leaves these out.
     pub fn preconditioner_dofs(&self) -> ContactRow<usize> {
+        self.dofs_above(PRECONDITIONER_WEIGHT)
+    }
+
+    /// The unknowns the coupling a contact is bound through must hold where the pattern
+    /// need not be complete: [`Contact::coupled_dofs`] without those whose rows are below
+    /// [`REQUIRED_WEIGHT`] of the contact's largest (see there).
+    pub fn required_dofs(&self) -> ContactRow<usize> {
+        self.dofs_above(REQUIRED_WEIGHT)
+    }
+
+    /// [`Contact::coupled_dofs`] without those whose rows (|b_N| + |b_S|) are below
+    /// `fraction` of the contact's largest.
+    fn dofs_above(&self, fraction: f64) -> ContactRow<usize> {
         let size = |(bn, bs): (&f64, &f64)| bn.abs() + bs.abs();
         let largest = self
             .bn
@@ -280,7 +293,7 @@ impl Contact {
             .zip(self.bs.iter())
             .map(size)
             .fold(0.0, f64::max);
-        let floor = PRECONDITIONER_WEIGHT * largest;
+        let floor = fraction * largest;
         let mut dofs = self.dofs.clone();
         for (d, r) in dofs.iter_mut().zip(self.bn.iter().zip(self.bs.iter())) {
             let s = size(r);
@@ -699,6 +712,15 @@ const ZERO_WEIGHT: f64 = 1e-9;
 /// Newton, GMRES and branch-change counts on both; histories within 1.4e-9 relative. 10⁻⁶
 /// left 11 of the 20×20 wall's 12 analyses; 10⁻² gave the same counts as 10⁻⁴.
 const PRECONDITIONER_WEIGHT: f64 = 1e-4;
+
+/// A contact finds its reserved coupling by its unknowns whose rows are at least this
+/// fraction of its largest ([`Contact::required_dofs`]; simulation/step.rs,
+/// `TangentPattern`, its index key); a rebuild reserves those above
+/// [`PRECONDITIONER_WEIGHT`]. Between the two the factorised matrix may lack a
+/// contact's entries (at most 10⁻² of its penalty: GMRES on the full tangent solves the
+/// Newton direction as accurately), and a weight that creeps across 10⁻⁴ as its point
+/// slides away from a mesh line does not rebuild the pattern at every step.
+const REQUIRED_WEIGHT: f64 = 1e-2;
 
 /// `w` with the weights below [`ZERO_WEIGHT`] set to zero (the others as they are: they
 /// sum to 1 within 10⁻⁹, and a weight that small is round-off of an exact zero).

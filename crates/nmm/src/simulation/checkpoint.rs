@@ -16,7 +16,8 @@
 //!   registry, written once, and its state's words); with `[[bolt]]`, last, each bolt's
 //!   committed state ([`crate::bolt::SavedBolt`]) and the bolts' energies (a model without
 //!   bolts writes nothing there: its checkpoints are what they were);
-//! - (format 5) the tangent's reserved couplings, each with the step it was last used
+//! - (format 5) the tangent's reserved couplings, each with the step it was last used (format
+//!   7: each with the key contacts find it by)
 //!   (`simulation/step.rs`, `TangentPattern`): the pattern, and so the ordering and the
 //!   round-off, of the next steps' factorisations follow from them. A checkpoint of an
 //!   earlier format is refused with the version that wrote it;
@@ -37,7 +38,7 @@ use std::time::Duration;
 
 const MAGIC: &[u8; 8] = b"NMMCKPT\n";
 /// Bumped whenever the layout below changes.
-pub const FORMAT: u32 = 6;
+pub const FORMAT: u32 = 7;
 
 /// The program version a checkpoint must come from.
 pub fn program_version() -> String {
@@ -463,7 +464,8 @@ impl Simulation {
         let t = self.linear.tangent.saved();
         w.us(t.contact_dofs);
         w.us(t.reserved.len());
-        for (k, used) in &t.reserved {
+        for (p, k, used) in &t.reserved {
+            p.iter().for_each(|d| w.us(*d));
             k.iter().for_each(|d| w.us(*d));
             w.us(*used);
         }
@@ -637,11 +639,12 @@ impl Simulation {
         if contact_dofs > crate::contact::set::MAX_CONTACT_DOFS {
             return Err("a reserved coupling of the tangent does not fit the model".into());
         }
-        let nr = r.len(8 * (contact_dofs + 1))?;
+        let nr = r.len(8 * (2 * contact_dofs + 1))?;
         let reserved = (0..nr)
             .map(|_| {
+                let p = (0..contact_dofs).map(|_| r.us()).collect::<Res<Vec<_>>>()?;
                 let k = (0..contact_dofs).map(|_| r.us()).collect::<Res<Vec<_>>>()?;
-                Ok((k, r.us()?))
+                Ok((p, k, r.us()?))
             })
             .collect::<Res<Vec<_>>>()?;
         self.linear.tangent.restore(&super::step::SavedPattern {

@@ -921,22 +921,79 @@ impl ContactSet {
         let (la, lb) = (&disc.boundaries[pa].loops, &disc.boundaries[pb].loops);
         let tol = self.touch_tol;
         let share = c.share;
-        self.push_contact(
-            g.model,
-            NewContact {
-                key: c.key,
-                segment: c.segment,
-                rows: c.rows,
-                gap: c.gap,
-                weight: c.weight,
-                density,
-                frame: c.frame,
-                position: polys[pa][vertex],
-                iface: c.iface,
-                joint: c.joint,
-            },
-            |s| insitu::force_on_vertex((&polys[pa], la), vertex, share, (&polys[pb], lb), s, tol),
-        );
+        self.push_contact(g.model, c.into_new(g, density), |s| {
+            insitu::force_on_vertex((&polys[pa], la), vertex, share, (&polys[pb], lb), s, tol)
+        });
+    }
+
+    /// Keep every contact the pairs' searches found, in order: without in-situ stress (no
+    /// offsets to record) each made in its place of the list on the run's threads (local
+    /// work, the list's order fixed by the pairs': the same on any thread count), else one
+    /// after the other ([`ContactSet::keep_found`]).
+    fn keep_all_found(&mut self, g: &DetectGeometry, density: f64, found: Vec<Vec<Found>>) {
+        if self.insitu.stress.is_some() {
+            for c in found.into_iter().flatten() {
+                self.keep_found(g, density, c);
+            }
+            return;
+        }
+        let total: usize = found.iter().map(Vec::len).sum();
+        let mut contacts = std::mem::take(&mut self.contacts);
+        let start = contacts.len();
+        contacts.reserve(total);
+        {
+            // each pair's slots, in order
+            let mut rest = &mut contacts.spare_capacity_mut()[..total];
+            let mut jobs = Vec::with_capacity(found.len());
+            for f in found {
+                let (slots, tail) = std::mem::take(&mut rest).split_at_mut(f.len());
+                jobs.push((slots, f));
+                rest = tail;
+            }
+            let this = &*self;
+            this.threads.for_each_mut(&mut jobs, |_, (slots, f)| {
+                for (slot, c) in slots.iter_mut().zip(std::mem::take(f)) {
+                    slot.write(this.make_contact(g.model, c.into_new(g, density), (0.0, 0.0)));
+                }
+            });
+        }
+        // SAFETY: the loop above wrote each of the `total` slots after `start` (a panic
+        // there leaves the list as it was, the contacts written leaked)
+        unsafe { contacts.set_len(start + total) };
+        self.contacts = contacts;
+    }
+}
+
+impl Found<'_> {
+    /// The contact to keep, at the vertex's current position.
+    fn into_new<'a>(self, g: &DetectGeometry<'a>, density: f64) -> NewContact<'a>
+    where
+        Self: 'a,
+    {
+        let (pa, vertex, _) = self.key;
+        NewContact {
+            key: self.key,
+            segment: self.segment,
+            rows: self.rows,
+            gap: self.gap,
+            weight: self.weight,
+            density,
+            frame: self.frame,
+            position: g.polys[pa][vertex],
+            iface: self.iface,
+            joint: self.joint,
+        }
+    }
+}
+
+impl NewContact<'_> {
+    /// The contact's normal and shear penalties (N/m): the interface's per length × its
+    /// springs' density × its weight.
+    fn penalties(&self) -> (f64, f64) {
+        (
+            self.iface.normal_penalty * self.density * self.weight,
+            self.iface.shear_penalty * self.density * self.weight,
+        )
     }
 }
 
@@ -950,24 +1007,35 @@ impl ContactSet {
         c: NewContact,
         insitu_force: impl FnOnce(&crate::model::InitialStress) -> Vec2,
     ) {
+        let (pn, ps) = c.penalties();
+        // in-situ stress: the springs of a contact touching at the start carry σ₀·n
+        let offsets = self.insitu_offset(c.key, c.gap, (pn, ps), c.frame, insitu_force);
+        let contact = self.make_contact(model, c, offsets);
+        self.contacts.push(contact);
+    }
+
+    /// The contact of `c` with its springs, law and state, given its in-situ offsets
+    /// (δ_N, initial shear gap; [`ContactSet::insitu_offset`]): reads the committed states
+    /// only (local work of a detection).
+    fn make_contact(
+        &self,
+        model: &dyn InterfaceView,
+        c: NewContact,
+        (offset, gs0): (f64, f64),
+    ) -> Contact {
+        let (pn, ps) = c.penalties();
         let NewContact {
             key,
             segment,
             rows: (dofs, bn, bs),
             gap,
             weight,
-            density,
+            density: _,
             frame: (normal, tangent),
             position,
             iface,
             joint,
         } = c;
-        let (pn, ps) = (
-            iface.normal_penalty * density * weight,
-            iface.shear_penalty * density * weight,
-        );
-        // in-situ stress: the springs of a contact touching at the start carry σ₀·n
-        let (offset, gs0) = self.insitu_offset(key, gap, (pn, ps), (normal, tangent), insitu_force);
         let gn0 = if offset != 0.0 { gap + offset } else { gap };
         // the interface's own law, else the analysis'
         let (law, own) = match &iface.law {
@@ -997,7 +1065,7 @@ impl ContactSet {
             _ => law.law().new_state(touching, self.commits == 0),
         };
         let response = law.law().response(&params, &history, gn0, gs0);
-        self.contacts.push(Contact {
+        Contact {
             key,
             segment,
             dofs,
@@ -1018,7 +1086,7 @@ impl ContactSet {
             tangent,
             joint,
             restitution: iface.restitution,
-        });
+        }
     }
 }
 
@@ -1152,11 +1220,7 @@ impl ContactSet {
             let found = this
                 .threads
                 .map(ordered.len(), |k| this.pair_contacts(&geometry, ordered[k]));
-            for f in found {
-                for c in f {
-                    self.keep_found(&geometry, density, c);
-                }
-            }
+            self.keep_all_found(&geometry, density, found);
         } else {
             for &pair in &ordered {
                 for c in self.pair_contacts(&geometry, pair) {

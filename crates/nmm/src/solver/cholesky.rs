@@ -1529,6 +1529,27 @@ mod solve_tests {
                     factorize(&mut held, &m1);
                     assert!(held.redo.iter().all(|&r| !r));
                     assert_eq!(held.values, fresh.values);
+                    // the last unknown's coupling too (elsewhere in the tree: a part that
+                    // redoes nothing keeps its sums of the top's updates), then back
+                    let n = a.n();
+                    let mut m2 = m1.clone();
+                    for (r, c, dv) in [
+                        (n - 1, n - 1, 0.5),
+                        (n - 1, n - 2, 0.01),
+                        (n - 2, n - 1, 0.01),
+                    ] {
+                        if let Some(k) = p.slot(r, c) {
+                            m2.values[k] += dv;
+                        }
+                    }
+                    for m in [&m2, &m1, &m2] {
+                        factorize(&mut held, m);
+                        let mut fresh = Cholesky::default();
+                        factorize(&mut fresh, m);
+                        assert_eq!(held.values, fresh.values, "{nx}x{ny}x{dofs} lu {lu}");
+                        assert_eq!(held.upper, fresh.upper, "{nx}x{ny}x{dofs} lu {lu}");
+                    }
+                    factorize(&mut held, &m1);
                     // invalidated, or of the other kind: made anew
                     held.invalidate();
                     factorize(&mut held, &m0);

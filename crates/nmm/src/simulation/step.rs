@@ -814,6 +814,26 @@ impl PiecewiseSystem for StepSystem<'_> {
 mod tests {
     use super::*;
 
+    fn key(d: &[usize], n: usize) -> CouplingKey {
+        let mut k = vec![NO_DOF; n];
+        k[..d.len()].copy_from_slice(d);
+        coupling_key(&k)
+    }
+
+    /// A coupling gathers its contacts' unknowns while they fit in one key; one that
+    /// would not fit is the new need alone (which holds the key it is found by).
+    #[test]
+    fn couplings_gather_what_their_contacts_need() {
+        let a = key(&[7, 2, 4], 6);
+        assert!(holds(&a, &[2, NO_DOF, 7]));
+        assert!(!holds(&a, &[2, 3]));
+        let u = union_key(&a, &key(&[4, 9], 6));
+        assert_eq!(free_unknowns(&u), &[2, 4, 7, 9]);
+        assert_eq!(u.len(), 6);
+        let b = key(&[1, 3, 5, 6], 6);
+        assert_eq!(union_key(&u, &b), b, "8 unknowns do not fit in 6");
+    }
+
     #[test]
     fn sorted_group_slots_are_group_slots() {
         let p = SparsePattern::from_groups(

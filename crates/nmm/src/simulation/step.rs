@@ -125,9 +125,8 @@ fn stale_budget(current: usize) -> usize {
 /// 96 analyses, tunnel 164 → 145; walls unchanged (byte-identical histories).
 ///
 /// A contact's coupling is its unknowns with rows that are not zeros
-/// ([`Contact::coupled_dofs`]: a point on a mesh edge has a cover of weight zero), else —
-/// when another contact between the same two elements reserved it — the coupling of all
-/// its unknowns, which holds it. Measured (2026-12-04, 12 steps, alternated with the build
+/// ([`Contact::coupled_dofs`]: a point on a mesh edge has a cover of weight zero), found by
+/// that set, else by its index key (below). Measured (2026-12-04, 12 steps, alternated with the build
 /// before, medians of 3 in one slow hour of the 2-core machine; the same iteration counts,
 /// histories within 10⁻¹¹ of uy; two runs): 20×20 wall 270 → 145 and 137 → 125 ms/step,
 /// 40×40 wall 1,162 → 815 and 1,161 → 805 ms/step, peak memory 164 → 133 MB — every vertex of a running-bond wall lies on mesh

@@ -698,6 +698,51 @@ mod tests {
         assert_relative_eq!(return_mapping(&P, &h, -1e-5, 0.0).tn, -1e6);
     }
 
+    /// The first kink of the return-mapping law along a line of (g_N, Δg_S) against its
+    /// closed forms: closing where g_N crosses 0, sliding where p_S (g_e + Δg_S) reaches
+    /// tan φ p_N |g_N|; found just past the crossing (on the new branch), within 2⁻⁴⁰.
+    #[test]
+    fn first_kink_of_return_mapping_closed_forms() {
+        use crate::contact::law::{first_kink, Branch, FrictionLaw};
+        let law: &dyn FrictionLaw = &ReturnMapping;
+        let h = committed(0.0, ContactStatus::Stick, -1e6, 0.0).to_state();
+        let close = |gn, dn| first_kink(law, &P, &h, (gn, 0.0), (dn, 0.0), 0.0, 1.0);
+        // open at 2 µm, closing by 8 µm: at a quarter of the line
+        let a = close(2e-6, -8e-6).expect("closes");
+        assert!(a > 0.25 && a - 0.25 <= 1e-11, "{a}");
+        assert_eq!(law.branch(&P, &h, 2e-6 - a * 8e-6, 0.0), Branch::Stick);
+        // closing by less than it is open: no kink; opening further: none
+        assert_eq!(close(2e-6, -1e-6), None);
+        assert_eq!(close(2e-6, 1e-6), None);
+        // closed at 10 µm (t_N = −1 MN/m, strength 577 kN/m), sheared by 1 mm: the trial
+        // force p_S Δg_S reaches the strength at Δg_S = 0.577 mm, either way
+        let strength = P.tan_phi * P.pn * 1e-5;
+        for sign in [1.0, -1.0] {
+            let a = first_kink(law, &P, &h, (-1e-5, 0.0), (0.0, sign * 1e-3), 0.0, 1.0)
+                .expect("slides");
+            let at = strength / (P.ps * 1e-3);
+            assert!(a > at && a - at <= 1e-11, "{a} against {at}");
+            assert_eq!(
+                law.branch(&P, &h, -1e-5, sign * a * 1e-3),
+                Branch::Slide(sign as i8)
+            );
+            // not within the interval asked: none
+            assert_eq!(
+                first_kink(law, &P, &h, (-1e-5, 0.0), (0.0, sign * 1e-3), 0.0, 0.5 * at),
+                None
+            );
+        }
+        // a sliding contact pulled on along its slip: no kink; opened on the way: at g_N = 0
+        assert_eq!(
+            first_kink(law, &P, &h, (-1e-5, 1e-3), (0.0, 1e-3), 0.0, 1.0),
+            None
+        );
+        // (g_N = 0 is open: the crossing itself is on the new branch)
+        let a = first_kink(law, &P, &h, (-1e-5, 1e-3), (4e-5, 0.0), 0.0, 1.0).expect("opens");
+        assert!(a >= 0.25 && a - 0.25 <= 1e-11, "{a}");
+        assert_eq!(law.branch(&P, &h, -1e-5 + a * 4e-5, 1e-3), Branch::Open);
+    }
+
     #[test]
     fn return_mapping_stick_closed_form() {
         let h = committed(2e-4, ContactStatus::Stick, -1e6, 0.0);

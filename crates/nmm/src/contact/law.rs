@@ -228,6 +228,40 @@ pub static LAWS: &[&dyn FrictionLaw] = &[
     &super::bonded::Bonded,
 ];
 
+/// The first kink of a law along a line: the smallest α in (`from`, `to`] at which its own
+/// branch at (g_N + α d_N, Δg_S + α d_S) differs from its branch at α = `from`, found by
+/// bisection to 2⁻⁴⁰ of the interval and returned just past the kink (on the new branch);
+/// `None` if the branch at `to` is the one at `from` (a line that leaves a branch and
+/// comes back to it within the interval is not seen). Every law's branches are regions of
+/// (g_N, Δg_S) that a line crosses at most a few times, and only the law's own
+/// [`FrictionLaw::branch`] is asked, so this serves every law of the registry.
+#[allow(clippy::too_many_arguments)]
+pub fn first_kink(
+    law: &dyn FrictionLaw,
+    p: &FrictionParams,
+    h: &LawState,
+    (gn, dgs): (f64, f64),
+    (dn, ds): (f64, f64),
+    from: f64,
+    to: f64,
+) -> Option<f64> {
+    let at = |a: f64| law.branch(p, h, gn + a * dn, dgs + a * ds);
+    let b0 = at(from);
+    if to <= from || at(to) == b0 {
+        return None;
+    }
+    let (mut lo, mut hi) = (from, to);
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        if at(mid) == b0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(hi)
+}
+
 /// A law of the registry: its index in [`LAWS`]. Prints as its name.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct LawId(u8);

@@ -224,6 +224,9 @@ fn row_products(a: f64, dofs: &[usize], bn: &[f64], bs: &[f64], v: &[f64]) -> (f
     (gn, gs)
 }
 
+/// Kinks closer than this fraction of a direction are ties ([`ContactSet::first_kink`]).
+const KINK_FLOOR: f64 = 1e-6;
+
 /// y[d_i] += b_N,i t_N + b_S,i t_S over a contact's rows.
 #[inline(always)]
 fn row_scatter(dofs: &[usize], bn: &[f64], bs: &[f64], tn: f64, ts: f64, y: &mut [f64]) {
@@ -1465,6 +1468,26 @@ impl ContactSet {
         let (first, second) = cs.split_at(cs.len() / 2);
         let (a, b) = self.threads.join(|| part(first), || part(second));
         a.max(b)
+    }
+
+    /// The first α in (`KINK_FLOOR`, 1] at which a contact's own branch along `du` + α `d`
+    /// differs from its own branch there ([`super::law::first_kink`], just past it), 1 if
+    /// none does. A contact on a boundary at `du` itself (a tie, decided by round-off) is
+    /// taken on its branch just beyond, so that the kink found is one the direction
+    /// reaches.
+    pub fn first_kink(&self, du: &[f64], d: &[f64]) -> f64 {
+        self.contacts.iter().fold(1.0, |first, c| {
+            super::law::first_kink(
+                c.law.law(),
+                &c.params,
+                &c.history,
+                c.gaps(du),
+                c.rates(d),
+                KINK_FLOOR,
+                first,
+            )
+            .unwrap_or(first)
+        })
     }
 
     /// y += K_c v with the tangent of the chosen branches (matrix-free).

@@ -802,6 +802,10 @@ impl PiecewiseSystem for StepSystem<'_> {
         self.sigma = sigma;
     }
 
+    fn first_kink(&self, x: &[f64], d: &[f64]) -> f64 {
+        self.contacts.first_kink(x, d)
+    }
+
     /// The largest relative motion (normal or tangential) a direction makes at a contact.
     fn step_size(&self, d: &[f64]) -> f64 {
         self.contacts.largest_relative_motion(d)

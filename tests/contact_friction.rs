@@ -228,7 +228,8 @@ fn only_initially_touching_contacts_are_locked() {
     let mut sim = Simulation::new(nmm::verify::cases::model(text).unwrap()).unwrap();
     // detect on the current geometry: (gap at the start of the step, history) per contact
     let detect = |sim: &mut Simulation| -> Vec<(f64, ContactStatus)> {
-        sim.contacts.detect(&sim.disc, &sim.model, &sim.u, 1e-3);
+        sim.contacts
+            .detect(&sim.disc, &sim.model, &sim.u, 1e-3, None);
         let found: Vec<_> = sim
             .contacts
             .contacts
@@ -252,4 +253,48 @@ fn only_initially_touching_contacts_are_locked() {
     assert!(detect(&mut sim)
         .iter()
         .all(|&(_, status)| status == ContactStatus::Open));
+}
+
+/// A vertex is found inside a face no deeper than the two blocks' reach allows
+/// (`PenetrationReach`: the sum of each block's, at least its floor, at most the search
+/// distance); without it, as deep as the search distance. A block whose bottom corners lie
+/// 5 cm inside a fixed base: found with a global search of 10 cm, not when the two blocks'
+/// reach is 1 cm (they did not move), found again when their reach sums to 6 cm. (The
+/// block is moved into the base by its displacement: a model may not overlap.)
+#[test]
+fn a_vertex_is_found_no_deeper_than_its_blocks_reach() {
+    use nmm::contact::set::PenetrationReach;
+    use nmm::simulation::Simulation;
+    let text = "[analysis]\nmode = \"static\"\ndt = 0.01\nsteps = 1\ngravity = [0.0, 0.0]\n\
+        [cover]\nsize = 0.25\n[[material]]\nname = \"rock\"\ndensity = 2500.0\nyoung = 1.0e9\npoisson = 0.25\n\
+        [[block]]\nname = \"base\"\nmaterial = \"rock\"\nvertices = [[0.0, -0.5], [2.0, -0.5], [2.0, 0.0], [0.0, 0.0]]\nfixed = true\n\
+        [[block]]\nname = \"top\"\nmaterial = \"rock\"\nvertices = [[0.5, 0.0], [1.5, 0.0], [1.5, 0.5], [0.5, 0.5]]\n\
+        [[interface]]\nfriction_angle = 30.0\nnormal_penalty = 1.0e10\nshear_penalty = 1.0e9\n";
+    let mut sim = Simulation::new(nmm::verify::cases::model(text).unwrap()).unwrap();
+    // the top block 5 cm down, into the base (a translation: every cover's constant term)
+    for c in &sim.disc.covers {
+        if let Some(d) = c.dof {
+            sim.u[d + 1] = -0.05;
+        }
+    }
+    let mut deepest = |blocks: Option<[f64; 2]>| -> Option<f64> {
+        let reach = blocks.as_ref().map(|b| PenetrationReach {
+            blocks: b,
+            floor: 0.01,
+        });
+        sim.contacts
+            .detect(&sim.disc, &sim.model, &sim.u, 0.1, reach);
+        sim.contacts
+            .contacts
+            .iter()
+            .map(|c| c.gn0)
+            .min_by(f64::total_cmp)
+    };
+    let global = deepest(None).expect("the corners inside the base");
+    assert!((global + 0.05).abs() < 1e-9, "{global}");
+    // the two blocks at rest: their reach is the floor, 1 cm
+    assert!(deepest(Some([0.0, 0.0])).is_none_or(|g| g > -0.01));
+    assert!(deepest(Some([0.0, 0.03])).is_none_or(|g| g > -0.03));
+    let both = deepest(Some([0.03, 0.03])).expect("within 6 cm");
+    assert!((both + 0.05).abs() < 1e-9, "{both}");
 }

@@ -591,7 +591,7 @@ impl Simulation {
         // 2. contacts on the geometry at t_n (once per step, whatever the cuts)
         if !self.contacts_current {
             let search = self.search_distance();
-            self.detect_contacts(search);
+            self.detect_contacts(search, true);
         }
         self.assemble_step_parts();
         let mut dt = self.model.analysis.dt - self.partial;
@@ -653,11 +653,21 @@ impl Simulation {
         })
     }
 
-    /// Contacts on the geometry at t_n, searched within `search` (m).
-    fn detect_contacts(&mut self, search: f64) {
+    /// Contacts on the geometry at t_n, searched within `search` (m); with `by_pair`, a
+    /// vertex is found inside a face no deeper than the two blocks' reach
+    /// ([`crate::contact::set::PenetrationReach`]), else within `search` too (the search
+    /// over a step's own motion when it outran the contacts).
+    fn detect_contacts(&mut self, search: f64, by_pair: bool) {
         let tc = Instant::now();
+        let reach = by_pair.then(|| self.block_reach());
+        let reach = reach
+            .as_ref()
+            .map(|r| crate::contact::set::PenetrationReach {
+                blocks: r,
+                floor: self.search_floor(),
+            });
         self.contacts
-            .detect(&self.disc, &self.model, &self.u, search);
+            .detect(&self.disc, &self.model, &self.u, search, reach);
         self.timings.stages.contact += tc.elapsed();
         self.contacts_current = true;
         self.search_used = search;
@@ -929,7 +939,7 @@ impl Simulation {
                 .iter()
                 .map(|c| (c.key, c.segment))
                 .collect();
-            self.detect_contacts((OUTRUN_SEARCH * motion).max(self.search_used));
+            self.detect_contacts((OUTRUN_SEARCH * motion).max(self.search_used), false);
             let tol = self.contacts.touch_tolerance();
             let found = self
                 .contacts
@@ -1155,7 +1165,28 @@ impl Simulation {
     /// Contact search distance: three times the largest displacement of the last
     /// step, and at least 2% of the mesh size.
     fn search_distance(&self) -> f64 {
-        (3.0 * self.last_max_du).max(0.02 * self.model.cover_size)
+        (SEARCH_MOTIONS * self.last_max_du).max(self.search_floor())
+    }
+
+    /// The least contact search distance: 2% of the mesh size.
+    fn search_floor(&self) -> f64 {
+        0.02 * self.model.cover_size
+    }
+
+    /// Each block's reach in the last step: [`SEARCH_MOTIONS`] times the largest motion of
+    /// its covers in the last increment (0 for a block that did not move).
+    fn block_reach(&self) -> Vec<f64> {
+        let mut reach = vec![0.0f64; self.model.blocks.len()];
+        if self.last_du.is_empty() {
+            return reach;
+        }
+        for c in &self.disc.covers {
+            if let Some(d) = c.dof {
+                let m = crate::geometry::norm([self.last_du[d], self.last_du[d + 1]]);
+                reach[c.block] = reach[c.block].max(SEARCH_MOTIONS * m);
+            }
+        }
+        reach
     }
 
     /// Commit a converged increment: kinematics, stresses, contacts, geometry.
@@ -1282,6 +1313,8 @@ enum Failure {
 /// A step may move no point farther than this fraction of the contact search distance
 /// used at its start: two blocks approaching each other close the distance twice as fast.
 pub const OUTRUN_FRACTION: f64 = 0.5;
+/// The contact search distance in motions of the last step ([`Simulation::search_distance`]).
+const SEARCH_MOTIONS: f64 = 3.0;
 
 /// Times a step that outran its contact search (and closed a contact found by a search
 /// over [`OUTRUN_SEARCH`] × its motion) is redone with those contacts before Δt is cut.

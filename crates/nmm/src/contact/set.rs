@@ -790,7 +790,6 @@ struct NewContact<'a> {
     joint: Option<usize>,
 }
 
-/// What a detection's pairs read: the current boundaries and the model's interfaces.
 /// How deep inside a face a detection finds a vertex, pair by pair: the sum of the two
 /// blocks' reach (a few times each one's motion in the last step), at least `floor`, at
 /// most the search distance. A vertex cannot have come through a face deeper than the two
@@ -808,6 +807,7 @@ pub struct PenetrationReach<'a> {
     pub floor: f64,
 }
 
+/// What a detection's pairs read: the current boundaries and the model's interfaces.
 struct DetectGeometry<'a> {
     disc: &'a Discretisation,
     model: &'a dyn InterfaceView,

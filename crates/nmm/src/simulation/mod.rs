@@ -1176,7 +1176,7 @@ impl Simulation {
     /// Each block's reach in the last step: [`SEARCH_MOTIONS`] times the largest motion of
     /// its covers in the last increment (0 for a block that did not move).
     fn block_reach(&self) -> Vec<f64> {
-        let mut reach = vec![0.0f64; self.model.blocks.len()];
+        let mut reach = vec![0.0f64; self.disc.boundaries.len()];
         if self.last_du.is_empty() {
             return reach;
         }

@@ -232,7 +232,12 @@ const FRESH_LU_ITERATIONS: usize = 12;
 /// a held LU only when at most 2 pieces had changed branch since it was made (with 2c + 2
 /// iterations for c changes) saved 8 of 64 factorisations on the 20×20 wall (GMRES 122 →
 /// 127), but the shaken slope at 0.25 / 0.3 / 0.35 g cut 32 / 30 / 34 steps against 15 /
-/// 21 / 33 (single runs of a chaotic problem).
+/// 21 / 33 (single runs of a chaotic problem). Re-measured with the loose solves of a
+/// moving active set (newton.rs `INEXACT`; 2026-12-05, 12 steps, one thread), budget 0 /
+/// 3 / 6: the 10×10 wall 54 / 59 / 58 solves, 59 / 174 / 222 GMRES iterations, 53 / 42 /
+/// 38 LU factorisations, factorisation and solve 21 / 28 / 31 ms; the 20×20 wall 66 / 69 /
+/// 69, 71 / 217 / 322, 65 / 55 / 52, 145 / 213 / 278 ms; the 40×40 wall 57 / 62 / 61, 59 /
+/// 184 / 271, 55 / 45 / 42, 965 / 1,276 / 1,400 ms.
 const STALE_LU_ITERATIONS: usize = 0;
 
 /// The tangent solver (see the module docs). Keep one per simulation: its workspaces are

@@ -86,6 +86,11 @@ pub struct VertexEdge {
     pub tangent: Vec2,
 }
 
+/// How much deeper than a vertex's shallowest candidate face another may lie and still be
+/// its entrance face, as a fraction of the largest penetration reported (rule 4): the
+/// penetration reported is a few motions of a step, the entrance face's at most one.
+const ENTRANCE_SLACK: f64 = 1.0 / 3.0;
+
 /// Tolerances of the detection.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NarrowParams {
@@ -415,6 +420,16 @@ fn detect(
                 || (c.gap < 0.0) == inside
                 || (overlap && edge_overlaps_face(&seg, c.j, c.s, [u_prev, u_next], sin_fit))
         });
+        // a vertex comes through the face it is nearest to: a candidate deeper inside B than
+        // the shallowest by more than a step's motion is another face's line (rule 4)
+        if cands.len() > 1 {
+            let shallow = cands
+                .iter()
+                .map(|c| c.gap.abs())
+                .fold(f64::INFINITY, f64::min);
+            let slack = ENTRANCE_SLACK * max_pen;
+            cands.retain(|c| c.gap >= 0.0 || -c.gap <= shallow + slack);
+        }
         let d_a = exterior_direction(u_prev, u_next);
         let (q_prev, q_next) = (a[la.prev(i)], a[la.next(i)]);
         let best = cands.iter().min_by(|x, y| {
@@ -514,6 +529,34 @@ fn is_inside(
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
+
+    /// Rule 4 passes over a candidate face whose line the vertex is deeper inside than its
+    /// shallowest candidate by more than a third of the largest penetration: the corner of
+    /// A rests 10 µm inside B's right face, 2.1 cm inside the line of B's chamfer
+    /// next to it (within the chamfer's end tolerance); the chamfer's normal opposes A's
+    /// corner best, and was chosen before (a penalty force on 2.1 cm).
+    #[test]
+    fn a_vertex_enters_through_the_face_it_is_nearest_to() {
+        let b = [[0.0, 0.0], [1.0, 0.0], [1.0, 0.9], [0.9, 1.0], [0.0, 1.0]];
+        let p = [0.99999, 0.87];
+        let a = [p, [1.3, 0.87], [1.3, 1.164], [1.06, 1.164]];
+        let found = vertex_edge_contacts_with(&a, &b, &[true; 4], &NarrowParams::new(0.03));
+        let c = found
+            .iter()
+            .find(|c| c.vertex == 0)
+            .expect("the corner touches");
+        assert_eq!(c.segment, 1, "{found:?}");
+        assert_relative_eq!(c.gap, -1e-5, max_relative = 1e-6);
+        // with a larger penetration allowed the chamfer is within the slack: its normal
+        // (rule 4's first criterion) decides, as before
+        let found = vertex_edge_contacts_with(&a, &b, &[true; 4], &NarrowParams::new(0.1));
+        let c = found
+            .iter()
+            .find(|c| c.vertex == 0)
+            .expect("the corner touches");
+        assert_eq!(c.segment, 2, "{found:?}");
+        assert!((c.gap + 0.0212).abs() < 1e-3, "{}", c.gap);
+    }
 
     fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Vec2> {
         vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]]

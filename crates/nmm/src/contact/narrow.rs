@@ -42,7 +42,10 @@
 //!    neighbours. A non-corner vertex thus only touches nearly parallel edges;
 //!    reflex (concave) vertices of `A` never make vertex–edge contact.
 //! 4. *Entrance edge* (vertex–vertex: `P` near a vertex of `B`, several segments
-//!    pass 1–3): the segment whose outward normal best opposes the outward
+//!    pass 1–3): a segment whose line `P` is deeper inside than the shallowest
+//!    candidate's by more than a third of `max_penetration` is not the one it came
+//!    through, and is passed over (`ENTRANCE_SLACK`); then the segment whose outward
+//!    normal best opposes the outward
 //!    direction `d` of `A` at `P` — for a corner, the exterior bisector
 //!    `normalize(n_prev + n_next)` of `A`'s two adjacent edge normals, for a
 //!    non-corner vertex the normal of the straight edge through it (the same
@@ -548,7 +551,7 @@ mod tests {
         assert_eq!(c.segment, 1, "{found:?}");
         assert_relative_eq!(c.gap, -1e-5, max_relative = 1e-6);
         // with a larger penetration allowed the chamfer is within the slack: its normal
-        // (rule 4's first criterion) decides, as before
+        // (rule 4's normal criterion) decides, as before
         let found = vertex_edge_contacts_with(&a, &b, &[true; 4], &NarrowParams::new(0.1));
         let c = found
             .iter()

@@ -543,21 +543,20 @@ mod tests {
         let b = [[0.0, 0.0], [1.0, 0.0], [1.0, 0.9], [0.9, 1.0], [0.0, 1.0]];
         let p = [0.99999, 0.87];
         let a = [p, [1.3, 0.87], [1.3, 1.164], [1.06, 1.164]];
-        let found = vertex_edge_contacts_with(&a, &b, &[true; 4], &NarrowParams::new(0.03));
-        let c = found
-            .iter()
-            .find(|c| c.vertex == 0)
-            .expect("the corner touches");
-        assert_eq!(c.segment, 1, "{found:?}");
+        // the corner's contact with a search (and largest penetration) of `search`
+        let corner = |search: f64| {
+            vertex_edge_contacts_with(&a, &b, &[true; 4], &NarrowParams::new(search))
+                .into_iter()
+                .find(|c| c.vertex == 0)
+                .expect("the corner touches")
+        };
+        let c = corner(0.03);
+        assert_eq!(c.segment, 1, "{c:?}");
         assert_relative_eq!(c.gap, -1e-5, max_relative = 1e-6);
         // with a larger penetration allowed the chamfer is within the slack: its normal
         // (rule 4's normal criterion) decides, as before
-        let found = vertex_edge_contacts_with(&a, &b, &[true; 4], &NarrowParams::new(0.1));
-        let c = found
-            .iter()
-            .find(|c| c.vertex == 0)
-            .expect("the corner touches");
-        assert_eq!(c.segment, 2, "{found:?}");
+        let c = corner(0.1);
+        assert_eq!(c.segment, 2, "{c:?}");
         assert!((c.gap + 0.0212).abs() < 1e-3, "{}", c.gap);
     }
 

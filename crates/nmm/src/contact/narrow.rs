@@ -139,15 +139,12 @@ pub fn vertex_edge_contacts_loops(
     corner_a: &[bool],
     prm: &NarrowParams,
 ) -> Vec<VertexEdge> {
-    let la = Loops {
-        starts: a_loops,
-        n: a.len(),
-    };
-    let lb = Loops {
-        starts: b_loops,
-        n: b.len(),
-    };
-    detect((a, la), (b, lb), corner_a, prm, b.len() > GRID_THRESHOLD)
+    vertex_edge_contacts_of(
+        &Outline::new(a, a_loops),
+        &Outline::new(b, b_loops),
+        corner_a,
+        prm,
+    )
 }
 
 /// The loops of a polyline: the first vertex of each (empty or `[0]`: one loop).
@@ -158,6 +155,7 @@ struct Loops<'a> {
 }
 
 impl Loops<'_> {
+    #[cfg(test)]
     fn one(n: usize) -> Self {
         Loops { starts: &[], n }
     }
@@ -325,22 +323,75 @@ pub fn vertex_edge_contacts_with(
     corner_a: &[bool],
     prm: &NarrowParams,
 ) -> Vec<VertexEdge> {
-    detect(
-        (a, Loops::one(a.len())),
-        (b, Loops::one(b.len())),
-        corner_a,
-        prm,
-        b.len() > GRID_THRESHOLD,
-    )
+    vertex_edge_contacts_of(&Outline::new(a, &[]), &Outline::new(b, &[]), corner_a, prm)
+}
+
+/// A closed polyline (of one loop or several) with what the narrow phase computes of it
+/// whichever the other block is: its segments, its box, and at each vertex the unit
+/// directions to its neighbours and the turn there. Made once per block per detection
+/// ([`Outline::new`]) and shared by all of the block's pairs, as `A` and as `B`
+/// ([`vertex_edge_contacts_of`]); the same numbers as computed pair by pair.
+pub struct Outline<'a> {
+    pts: &'a [Vec2],
+    loops: Loops<'a>,
+    seg: Segments,
+    bbox: Aabb,
+    /// At each vertex: (u_prev, u_next), the unit directions to its neighbours ...
+    dirs: Vec<[Vec2; 2]>,
+    /// ... and the signed angle from the incoming direction to the outgoing one (below
+    /// −fit angle: a reflex vertex, which never touches an edge with its tip).
+    turn: Vec<f64>,
+}
+
+impl<'a> Outline<'a> {
+    /// The outline of the polyline `pts` whose loops start at `loops` (empty or `[0]`: one
+    /// loop; see the module doc).
+    pub fn new(pts: &'a [Vec2], loops: &'a [usize]) -> Self {
+        let lp = Loops {
+            starts: loops,
+            n: pts.len(),
+        };
+        let (dirs, turn) = (0..pts.len())
+            .map(|i| {
+                let p = pts[i];
+                let u_prev = unit(sub(pts[lp.prev(i)], p));
+                let u_next = unit(sub(pts[lp.next(i)], p));
+                let d_in = scale(u_prev, -1.0);
+                (
+                    [u_prev, u_next],
+                    cross(d_in, u_next).atan2(dot(d_in, u_next)),
+                )
+            })
+            .unzip();
+        Outline {
+            pts,
+            loops: lp,
+            seg: Segments::new(pts, lp),
+            bbox: Aabb::of_points(pts),
+            dirs,
+            turn,
+        }
+    }
+}
+
+/// As [`vertex_edge_contacts_with`], of two outlines (of one loop or several).
+pub fn vertex_edge_contacts_of(
+    a: &Outline,
+    b: &Outline,
+    corner_a: &[bool],
+    prm: &NarrowParams,
+) -> Vec<VertexEdge> {
+    detect(a, b, corner_a, prm, b.pts.len() > GRID_THRESHOLD)
 }
 
 fn detect(
-    (a, la): (&[Vec2], Loops),
-    (b, lb): (&[Vec2], Loops),
+    oa: &Outline,
+    ob: &Outline,
     corner_a: &[bool],
     prm: &NarrowParams,
     use_grid: bool,
 ) -> Vec<VertexEdge> {
+    let (a, la, b, lb) = (oa.pts, oa.loops, ob.pts, ob.loops);
     let (na, nb) = (a.len(), b.len());
     let mut out = Vec::new();
     if na < 3 || nb < 3 {
@@ -352,13 +403,13 @@ fn detect(
     let sin_fit = prm.fit_angle.sin();
     // Largest distance at which any rule can accept a vertex.
     let reach = search.max(max_pen) + end_tol;
-    let bbox_b = Aabb::of_points(b);
+    let bbox_b = ob.bbox;
     let outer = bbox_b.inflate(reach);
-    let seg = Segments::new(b, lb);
+    let seg = &ob.seg;
     let scale_b = bbox_b.diagonal();
     let on_tol = 1e-12 * scale_b;
     let corner_tol = (CORNER_SIDE * reach).min(CORNER_SIDE_MAX * scale_b);
-    let grid = use_grid.then(|| Grid::new(b, lb, &seg, &bbox_b, reach));
+    let grid = use_grid.then(|| Grid::new(b, lb, seg, &bbox_b, reach));
     let all: Vec<(u64, u32)> = if grid.is_none() {
         (0..nb as u32).map(|j| (0, j)).collect()
     } else {
@@ -372,11 +423,9 @@ fn detect(
             continue;
         }
         let is_corner = corner_a.get(i).copied().unwrap_or(true);
-        let u_prev = unit(sub(a[la.prev(i)], p));
-        let u_next = unit(sub(a[la.next(i)], p));
+        let [u_prev, u_next] = oa.dirs[i];
         // Reflex vertices of A (beyond the fit tolerance) never touch an edge with their tip.
-        let d_in = scale(u_prev, -1.0);
-        if cross(d_in, u_next).atan2(dot(d_in, u_next)) < -prm.fit_angle {
+        if oa.turn[i] < -prm.fit_angle {
             continue;
         }
         let tol_end = if is_corner { end_tol } else { 0.0 };
@@ -415,13 +464,13 @@ fn detect(
         if cands.is_empty() || nearest.0 > reach {
             continue;
         }
-        let inside = is_inside(&seg, (b, lb), p, nearest);
+        let inside = is_inside(seg, (b, lb), p, nearest);
         // a corner a hair outside B still touches a face it overlaps: rule 2's exception
         let overlap = is_corner && !inside && nearest.0 <= corner_tol;
         cands.retain(|c| {
             c.gap.abs() <= on_tol
                 || (c.gap < 0.0) == inside
-                || (overlap && edge_overlaps_face(&seg, c.j, c.s, [u_prev, u_next], sin_fit))
+                || (overlap && edge_overlaps_face(seg, c.j, c.s, [u_prev, u_next], sin_fit))
         });
         // a vertex comes through the face it is nearest to: a candidate deeper inside B than
         // the shallowest by more than a step's motion is another face's line (rule 4)
@@ -448,8 +497,8 @@ fn detect(
             }
             // P at a vertex of B (the faces meet vertex for vertex): the segment along
             // which A's own edges at P run furthest
-            let ox = along(&seg, x, p, [q_prev, q_next], sin_fit);
-            let oy = along(&seg, y, p, [q_prev, q_next], sin_fit);
+            let ox = along(seg, x, p, [q_prev, q_next], sin_fit);
+            let oy = along(seg, y, p, [q_prev, q_next], sin_fit);
             oy.total_cmp(&ox)
         });
         if let Some(c) = best {
@@ -857,8 +906,8 @@ mod tests {
         let (a, ca) = refined_rect(3.0, 1.0 + 1e-5, 7.05, 2.0, 17);
         let prm = NarrowParams::new(1e-3);
         let fast = detect(
-            (&a, Loops::one(a.len())),
-            (&b, Loops::one(b.len())),
+            &Outline::new(&a, &[]),
+            &Outline::new(&b, &[]),
             &ca,
             &prm,
             true,
@@ -866,8 +915,8 @@ mod tests {
         assert_eq!(
             fast,
             detect(
-                (&a, Loops::one(a.len())),
-                (&b, Loops::one(b.len())),
+                &Outline::new(&a, &[]),
+                &Outline::new(&b, &[]),
                 &ca,
                 &prm,
                 false
@@ -899,8 +948,8 @@ mod tests {
                 })
                 .collect();
             let g = detect(
-                (&moved, Loops::one(moved.len())),
-                (&b, Loops::one(b.len())),
+                &Outline::new(&moved, &[]),
+                &Outline::new(&b, &[]),
                 &ca,
                 &prm,
                 true,
@@ -908,8 +957,8 @@ mod tests {
             assert_eq!(
                 g,
                 detect(
-                    (&moved, Loops::one(moved.len())),
-                    (&b, Loops::one(b.len())),
+                    &Outline::new(&moved, &[]),
+                    &Outline::new(&b, &[]),
                     &ca,
                     &prm,
                     false
@@ -919,8 +968,8 @@ mod tests {
             assert_eq!(
                 g,
                 detect(
-                    (&moved, Loops::one(moved.len())),
-                    (&b, Loops::one(b.len())),
+                    &Outline::new(&moved, &[]),
+                    &Outline::new(&b, &[]),
                     &ca,
                     &prm,
                     true

@@ -62,7 +62,7 @@
 use super::broad::sweep_and_prune;
 use super::friction::{ContactStatus, FrictionParams, LawResponse};
 use super::law::{Branch, IterationContext, LawId, LawState};
-use super::narrow::{vertex_edge_contacts_loops, NarrowParams, VertexEdge};
+use super::narrow::{vertex_edge_contacts_of, NarrowParams, Outline, VertexEdge};
 use super::restitution::DashpotTable;
 use super::InterfaceView;
 use crate::cover::basis::{ELEMENT_DOFS, MAX_ELEMENT_DOFS, NO_DOF};
@@ -811,8 +811,9 @@ pub struct PenetrationReach<'a> {
 struct DetectGeometry<'a> {
     disc: &'a Discretisation,
     model: &'a dyn InterfaceView,
-    /// Current boundary polylines and their corner flags, by block.
+    /// Current boundary polylines, their outlines and their corner flags, by block.
     polys: &'a [Vec<Vec2>],
+    outlines: &'a [Outline<'a>],
     corners: &'a [Vec<bool>],
     /// The bonded vertices held on their faces ([`held_edge`]), by (vertex block, edge
     /// block).
@@ -851,9 +852,9 @@ impl ContactSet {
             Some(r) => (r.blocks[pa] + r.blocks[pb]).max(r.floor).min(search),
             None => search,
         };
-        let mut found = vertex_edge_contacts_loops(
-            (&polys[pa], la),
-            (&polys[pb], lb),
+        let mut found = vertex_edge_contacts_of(
+            &g.outlines[pa],
+            &g.outlines[pb],
             &g.corners[pa],
             &NarrowParams {
                 max_penetration,
@@ -1236,10 +1237,17 @@ impl ContactSet {
             ordered.push((a, b));
             ordered.push((b, a));
         }
+        // each block's outline, once for all its pairs
+        let outlines: Vec<Outline> = polys
+            .iter()
+            .zip(&disc.boundaries)
+            .map(|(p, b)| Outline::new(p, &b.loops))
+            .collect();
         let geometry = DetectGeometry {
             disc,
             model,
             polys: &polys,
+            outlines: &outlines,
             corners: &corners,
             held: &held,
             search,

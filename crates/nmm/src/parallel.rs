@@ -20,16 +20,30 @@ pub const THREADS_VAR: &str = "NMM_THREADS";
 
 /// Loops below this many items run inline (a pool's dispatch costs more than they do).
 ///
-/// Measured on the 2-core machine (whole runs, alternated): with 256 the arch example
-/// (1,000 unknowns, 1,293 elements, up to 319 contacts) took 22.4–22.9 s on two threads
-/// against 19.7–21.4 s on one (3 s of system time waking the pool's other thread at every
-/// assembly and contact loop); with 2048, 19.3–19.4 s on two and 19.3 s on one. The brick
+/// Measured on the 2-core machine (whole runs, alternated, before the keepers): with 256
+/// the arch example (1,000 unknowns, 1,293 elements, up to 319 contacts) took 22.4–22.9 s
+/// on two threads against 19.7–21.4 s on one (3 s of system time waking the pool's other
+/// thread at every assembly and contact loop); with 2048, 19.3–19.4 s on two and 19.3 s on
+/// one. The brick
 /// walls are unchanged within noise (20×20: 1.20–1.27 s, 40×40: 6.4–7.1 s, 12 steps):
 /// their time is in the factorisation and the triangular solves, which two threads share
 /// only for large factors (solver/cholesky.rs: the two parts of a split elimination tree;
 /// faer's own parallel supernodal factorisation was slower on two threads than on one on
 /// the 40×40 wall's tangent: 34 against 26 ms).
-pub const MIN_PARALLEL: usize = 2048;
+///
+/// Lowered to 256 on 2026-12-05, with the keepers ([`KEEP_WARM`], which came later and
+/// take the wake-up out of every loop), together with the contacts' split
+/// (contact/set.rs `SPLIT_PRODUCT`, 2048 → 256) and the factor's (solver/cholesky.rs
+/// `MIN_SPLIT_VALUES`, 131,072 → 8,192 values), each loop in pieces of at least
+/// `MIN_PARALLEL / 4` items (`map` too, whose finer splitting by rayon cost more than it
+/// shared). Measured on two threads, alternated, against the build before: the 10×10
+/// wall 2.32–2.58 → 1.98–2.05 ms a step (medians of 7; one thread 2.36–2.39, as before),
+/// the arch example 9.46–9.50 → 8.96–9.02 s, the tunnel 10.75–11.41 → 9.93–10.12 s; the
+/// 20×20 and larger walls as before (their loops and factors were split already). The
+/// assembly's element loop is split only when 256 elements have unknowns
+/// (simulation/mod.rs): the shaking-table slope's 1,153 elements, all but a few in its
+/// fixed table, took 1.07 → 1.25 s split (10,000 steps; 1.11 s with that rule).
+pub const MIN_PARALLEL: usize = 256;
 
 /// How long a keeper of [`Threads::keep_warm`] waits for a job before it lets its thread
 /// sleep. A pool thread that sleeps takes 50–100 µs on this 2-core machine to wake when a
@@ -158,7 +172,13 @@ impl Threads {
     /// `(0..n).map(f)` collected in order, computed on the run's threads.
     pub fn map<T: Send>(&self, n: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
         match &self.pool {
-            Some(p) if n >= MIN_PARALLEL => p.install(|| (0..n).into_par_iter().map(f).collect()),
+            Some(p) if n >= MIN_PARALLEL => p.install(|| {
+                (0..n)
+                    .into_par_iter()
+                    .with_min_len(MIN_PARALLEL / 4)
+                    .map(f)
+                    .collect()
+            }),
             _ => (0..n).map(f).collect(),
         }
     }

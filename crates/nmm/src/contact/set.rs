@@ -372,7 +372,10 @@ fn tangent4(r: &LawResponse) -> [f64; 4] {
 /// steps, two threads, three alternated runs on a busy machine): solve stage 2.02/3.11/2.62
 /// → 1.91/2.68/2.61 s, histories byte-identical at 1 and 2 threads. Below it, one pass
 /// (each contact's rates and scatter at once: half the reads of a map then a scatter).
-const SPLIT_PRODUCT: usize = 2048;
+/// 256, not 2048 as first (2026-12-05, with the pool's keepers, parallel.rs `KEEP_WARM`):
+/// the 10×10 wall's ~1,000 contacts are then split too (see parallel.rs `MIN_PARALLEL` for
+/// what the three thresholds lowered together gave).
+const SPLIT_PRODUCT: usize = 256;
 
 thread_local! {
     /// The second half's sum of the tangent product (kept: a fresh allocation of that size

@@ -708,22 +708,31 @@ impl Simulation {
             CoverBasis::Constant => &self.stress,
             _ => &self.stress_nodes,
         };
-        self.threads
-            .for_each_chunk_mut(&mut lp.records, rl, |ei, rec| {
-                let e = &disc.elements[ei];
-                if elem_dofs.of(ei).iter().all(|&d| d == NO_DOF) {
-                    return;
-                }
-                let mat = model.blocks[e.block].material;
-                basis.element_local(
-                    e,
-                    model.materials[mat].density,
-                    initial_area[ei],
-                    &d_mats[mat],
-                    &stress[nsv * ei..nsv * (ei + 1)],
-                    rec,
-                );
-            });
+        // on the run's threads when enough elements have work (a fixed base's elements,
+        // skipped, would only pay the pool's dispatch)
+        let busy = (0..n_el)
+            .filter(|&ei| elem_dofs.of(ei).iter().any(|&d| d != NO_DOF))
+            .count();
+        let serial = crate::parallel::Threads::default();
+        let threads = match busy >= crate::parallel::MIN_PARALLEL {
+            true => &self.threads,
+            false => &serial,
+        };
+        threads.for_each_chunk_mut(&mut lp.records, rl, |ei, rec| {
+            let e = &disc.elements[ei];
+            if elem_dofs.of(ei).iter().all(|&d| d == NO_DOF) {
+                return;
+            }
+            let mat = model.blocks[e.block].material;
+            basis.element_local(
+                e,
+                model.materials[mat].density,
+                initial_area[ei],
+                &d_mats[mat],
+                &stress[nsv * ei..nsv * (ei + 1)],
+                rec,
+            );
+        });
         for ei in 0..n_el {
             if elem_dofs.of(ei).iter().all(|&d| d == NO_DOF) {
                 continue;

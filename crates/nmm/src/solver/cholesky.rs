@@ -971,10 +971,13 @@ impl Split {
     }
 }
 
-/// Smallest factor (stored values) whose solves are split ([`split_tree`]): below it the
-/// copies of x and the join cost about what the second thread saves (a 1,000-unknown arch's
-/// factor holds 26,000 values, a 40×40 wall's 940,000).
-const MIN_SPLIT_VALUES: usize = 1 << 17;
+/// Smallest factor (stored values) whose factorisation and solves are split
+/// ([`split_tree`]): below it the copies of x and the join cost about what the second
+/// thread saves (a 1,000-unknown arch's factor holds 26,000 values, a 10×10 wall's 32,000,
+/// a 40×40 wall's 940,000). 8,192 since 2026-12-05 (131,072 before, measured without the
+/// pool's keepers, parallel.rs `KEEP_WARM`): the 10×10 wall's factorisation stage 1.0 →
+/// 0.75–0.81 ms a step on two threads (see parallel.rs `MIN_PARALLEL` for the whole change).
+const MIN_SPLIT_VALUES: usize = 1 << 13;
 
 /// Largest share of the factor's values the top may hold for a split to be worth it.
 const SPLIT_TOP_SHARE: f64 = 0.4;
@@ -1350,13 +1353,18 @@ mod solve_tests {
     }
 
     /// Our numeric factorisation (supernodal.rs) gives faer's factor to round-off, on
-    /// narrow supernodes (2 unknowns a block), wide ones (24) and a factor split in two
-    /// parts; bit for bit the same on one thread and two; and a matrix that is not positive
+    /// narrow supernodes (2 unknowns a block), wide ones (24), whole or split in two parts;
+    /// bit for bit the same on one thread and two; and a matrix that is not positive
     /// definite is said to be so (a narrow panel and a wide one).
     #[test]
     fn our_factor_is_faers_and_the_same_on_one_thread_and_two() {
         let two = crate::parallel::Threads::new(2).unwrap();
-        for (nx, ny, dofs, split) in [(12, 9, 2, false), (6, 5, 24, false), (90, 60, 2, true)] {
+        for (nx, ny, dofs, split) in [
+            (12, 9, 2, false),
+            (2, 2, 24, false),
+            (6, 5, 24, true),
+            (90, 60, 2, true),
+        ] {
             let a = block_grid(nx, ny, dofs);
             let mut c = Cholesky::default();
             c.factorize(&a).unwrap();

@@ -1240,11 +1240,13 @@ impl ContactSet {
             ordered.push((a, b));
             ordered.push((b, a));
         }
-        // each block's outline, once for all its pairs
+        // each block's outline, once for all its pairs (with the grid of a long one for
+        // the pairs' reach: their depths are at most the search distance)
+        let prm = NarrowParams::new(search);
         let outlines: Vec<Outline> = polys
             .iter()
             .zip(&disc.boundaries)
-            .map(|(p, b)| Outline::new(p, &b.loops))
+            .map(|(p, b)| Outline::new(p, &b.loops).with_grid(&prm))
             .collect();
         let geometry = DetectGeometry {
             disc,

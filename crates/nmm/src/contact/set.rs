@@ -1710,23 +1710,40 @@ impl ContactSet {
                 pass(cs, &mut dissipated);
             }
         }
-        for (c, d) in self.contacts.iter().zip(&dissipated) {
-            let law = c.law.law();
-            self.seen.insert(c.key);
-            self.dissipation.friction += d.friction;
-            self.dissipation.damping += d.damping;
-            self.dissipation.algorithmic += d.algorithmic;
-            self.dissipation.start_energy += d.start_energy;
-            let h = c.history;
-            if c.response.status != ContactStatus::Open {
-                self.committed.insert(c.key, (c.law, h, c.normal));
-            }
-            if law.lasting(&h) {
-                self.lasting.insert(c.key, (c.law, h));
-            } else if !self.lasting.is_empty() {
-                self.lasting.remove(&c.key);
-            }
-        }
+        // the maps and sums in contact order: the committed states on one thread, the rest
+        // on another (each map built as by one thread alone; 20×20 wall, 4,500 contacts:
+        // 0.23 ms a step in one loop)
+        let (cs, committed) = (&self.contacts, &mut self.committed);
+        let (seen, lasting, sums) = (&mut self.seen, &mut self.lasting, &mut self.dissipation);
+        let serial = crate::parallel::Threads::default();
+        let threads = match cs.len() >= SPLIT_PRODUCT {
+            true => &self.threads,
+            false => &serial,
+        };
+        threads.join(
+            || {
+                for c in cs.iter() {
+                    if c.response.status != ContactStatus::Open {
+                        committed.insert(c.key, (c.law, c.history, c.normal));
+                    }
+                }
+            },
+            || {
+                for (c, d) in cs.iter().zip(&dissipated) {
+                    seen.insert(c.key);
+                    sums.friction += d.friction;
+                    sums.damping += d.damping;
+                    sums.algorithmic += d.algorithmic;
+                    sums.start_energy += d.start_energy;
+                    let h = c.history;
+                    if c.law.law().lasting(&h) {
+                        lasting.insert(c.key, (c.law, h));
+                    } else if !lasting.is_empty() {
+                        lasting.remove(&c.key);
+                    }
+                }
+            },
+        );
         self.dissipated = dissipated;
     }
 

@@ -148,10 +148,10 @@ impl Simulation {
         }
         w_ext += self.f_load.iter().zip(du).map(|(f, d)| f * d).sum::<f64>();
         let mut mv = vec![0.0; self.v.len()];
-        step::sym_mul(lp.tangent.element(), &lp.m, &self.v, &mut mv);
+        step::sym_mul_on(&self.threads, lp.tangent.element(), &lp.m, &self.v, &mut mv);
         let kinetic = 0.5 * mv.iter().zip(&self.v).map(|(a, b)| a * b).sum::<f64>();
         let initial_kinetic = if self.step == 0 {
-            step::sym_mul(lp.tangent.element(), &lp.m, v_n, &mut mv);
+            step::sym_mul_on(&self.threads, lp.tangent.element(), &lp.m, v_n, &mut mv);
             0.5 * mv.iter().zip(v_n).map(|(a, b)| a * b).sum::<f64>()
         } else {
             0.0
@@ -235,12 +235,12 @@ impl Simulation {
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         let mut damping = 0.0;
         if !lp.c.is_empty() && self.model.analysis.mode == Mode::Dynamic {
-            step::sym_mul(lp.tangent.element(), &lp.c, &self.v, &mut y);
+            step::sym_mul_on(&self.threads, lp.tangent.element(), &lp.c, &self.v, &mut y);
             damping = dot(du, &y);
         }
-        step::sym_mul(lp.tangent.element(), &lp.k, du, &mut y);
+        step::sym_mul_on(&self.threads, lp.tangent.element(), &lp.k, du, &mut y);
         let mut algorithmic = 0.5 * dot(du, &y) + moving;
-        step::sym_mul(lp.tangent.element(), &lp.p, du, &mut y);
+        step::sym_mul_on(&self.threads, lp.tangent.element(), &lp.p, du, &mut y);
         algorithmic += 0.5 * dot(du, &y);
         let contacts = self.contacts.step_dissipation();
         algorithmic += contacts.algorithmic;

@@ -827,7 +827,7 @@ impl Simulation {
         if !lp.c.is_empty() && self.model.analysis.mode == Mode::Dynamic {
             // Rayleigh damping: C v_{n+1} = (2/Δt) C Δu − C v_n, so + C v_n here
             let mut cv_n = vec![0.0; f.len()];
-            step::sym_mul(lp.tangent.element(), &lp.c, v_n, &mut cv_n);
+            step::sym_mul_on(&self.threads, lp.tangent.element(), &lp.c, v_n, &mut cv_n);
             for (fi, ci) in f.iter_mut().zip(&cv_n) {
                 *fi += ci;
             }

@@ -576,7 +576,18 @@ fn embed(small: &SparsePattern, big: &SparsePattern) -> Vec<u32> {
 /// y = A x for a symmetric A stored in full over `p`, on the calling thread ([`rows_mul`]:
 /// each y_i one ordered sum).
 pub(crate) fn sym_mul(p: &SparsePattern, a: &[f64], x: &[f64], y: &mut [f64]) {
-    rows_mul(&crate::parallel::Threads::default(), p, |k| a[k], x, y);
+    sym_mul_on(&crate::parallel::Threads::default(), p, a, x, y);
+}
+
+/// [`sym_mul`] on `threads` (the same y whatever their number).
+pub(crate) fn sym_mul_on(
+    threads: &crate::parallel::Threads,
+    p: &SparsePattern,
+    a: &[f64],
+    x: &[f64],
+    y: &mut [f64],
+) {
+    rows_mul(threads, p, |k| a[k], x, y);
 }
 
 /// y = A v for a symmetric A over `p` whose entry in slot k is `value(k)`, by rows (= columns),

@@ -112,6 +112,16 @@ impl Threads {
         self.pool.as_ref().map_or(1, |p| p.current_num_threads())
     }
 
+    /// These threads for a loop of `items` items of work when there are at least `min`,
+    /// else the calling thread alone (for a loop whose length overstates its work, or that
+    /// is split by hand: below `min` the dispatch costs more than it shares).
+    pub fn for_items(&self, items: usize, min: usize) -> Threads {
+        match items >= min {
+            true => self.clone(),
+            false => Threads::default(),
+        }
+    }
+
     /// Run `f` on the pool (inline with one thread), so that the parallel loops it makes
     /// are joined by the pool's other threads while its own thread takes part.
     pub fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
@@ -250,6 +260,9 @@ mod tests {
         four.for_each_chunk_mut(&mut d, 3, g);
         assert_eq!(c, a);
         assert_eq!(d, a);
+        // a loop with too little work runs on the calling thread alone
+        assert_eq!(four.for_items(255, 256).count(), 1);
+        assert_eq!(four.for_items(256, 256).count(), 4);
     }
 
     #[test]

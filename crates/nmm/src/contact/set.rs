@@ -1715,12 +1715,7 @@ impl ContactSet {
         // 0.23 ms a step in one loop)
         let (cs, committed) = (&self.contacts, &mut self.committed);
         let (seen, lasting, sums) = (&mut self.seen, &mut self.lasting, &mut self.dissipation);
-        let serial = crate::parallel::Threads::default();
-        let threads = match cs.len() >= SPLIT_PRODUCT {
-            true => &self.threads,
-            false => &serial,
-        };
-        threads.join(
+        self.threads.for_items(cs.len(), SPLIT_PRODUCT).join(
             || {
                 for c in cs.iter() {
                     if c.response.status != ContactStatus::Open {

@@ -390,6 +390,8 @@ impl CoverBasis {
 pub struct ElementDofTable {
     stride: usize,
     dofs: Vec<usize>,
+    /// How many elements have an unknown (the others lie in fixed blocks).
+    free: usize,
 }
 
 impl ElementDofTable {
@@ -404,7 +406,16 @@ impl ElementDofTable {
         {
             disc.basis.element_dofs_into(disc, e, out);
         }
-        ElementDofTable { stride, dofs }
+        let free = dofs
+            .chunks_exact(stride.max(1))
+            .filter(|d| d.iter().any(|&x| x != NO_DOF))
+            .count();
+        ElementDofTable { stride, dofs, free }
+    }
+
+    /// How many elements have at least one unknown.
+    pub fn free_elements(&self) -> usize {
+        self.free
     }
 
     /// The unknowns of element `e`.

@@ -710,14 +710,9 @@ impl Simulation {
         };
         // on the run's threads when enough elements have work (a fixed base's elements,
         // skipped, would only pay the pool's dispatch)
-        let busy = (0..n_el)
-            .filter(|&ei| elem_dofs.of(ei).iter().any(|&d| d != NO_DOF))
-            .count();
-        let serial = crate::parallel::Threads::default();
-        let threads = match busy >= crate::parallel::MIN_PARALLEL {
-            true => &self.threads,
-            false => &serial,
-        };
+        let threads = self
+            .threads
+            .for_items(elem_dofs.free_elements(), crate::parallel::MIN_PARALLEL);
         threads.for_each_chunk_mut(&mut lp.records, rl, |ei, rec| {
             let e = &disc.elements[ei];
             if elem_dofs.of(ei).iter().all(|&d| d == NO_DOF) {

@@ -516,6 +516,15 @@ impl Simulation {
         self.threads = threads;
     }
 
+    /// Solve the steps' linear systems with `solver` instead of the [`TangentSolver`] (an
+    /// iterative solver, a solver that records what it is given for a benchmark). Set it
+    /// before the first step: the solver is told nothing of what came before.
+    pub fn set_linear_solver(&mut self, solver: Box<dyn LinearSolver>) {
+        self.solver = solver;
+        self.solver_cm = None;
+        self.solver_step = None;
+    }
+
     /// The number of threads the simulation computes on.
     pub fn threads(&self) -> usize {
         self.threads.count()

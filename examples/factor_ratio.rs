@@ -29,6 +29,7 @@ use nmm::parallel::{default_threads, Threads};
 use nmm::simulation::Simulation;
 use nmm::solver::{
     Cholesky, LinearSolver, LinearStats, SolveError, SparseMatrix, TangentOperator, TangentSolver,
+    MIN_LU_PIECES,
 };
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -53,11 +54,6 @@ struct Args {
     #[arg(long, default_value_t = 5)]
     reps: usize,
 }
-
-/// Fewest sliding contacts for which the solver factorises the whole tangent (LU): the
-/// rule of `TangentSolver` (solver/tangent.rs `MIN_LU_PIECES`), restated to factorise each
-/// recorded tangent as the solver did.
-const MIN_LU_PIECES: usize = 8;
 
 /// A recorded tangent and how the solver factorises it.
 struct Recorded {

@@ -30,7 +30,7 @@ pub use newton::{
     MAX_REJECTIONS, MIN_STEP,
 };
 pub use sparse::{SparseMatrix, SparsePattern};
-pub use tangent::{LinearSolver, LinearStats, TangentOperator, TangentSolver};
+pub use tangent::{LinearSolver, LinearStats, TangentOperator, TangentSolver, MIN_LU_PIECES};
 
 /// Σ aᵢ bᵢ in four interleaved partial sums, so that it vectorises (a sum in one
 /// accumulator waits on each addition: the Gram–Schmidt of GMRES was about a tenth of a

@@ -220,7 +220,7 @@ const RESTART: usize = 40;
 /// 32 / never): arch example 19.1 / 18.2 / 18.9 / 19.4 / 20.0 s (GMRES iterations 20,887 /
 /// 39,466 / 52,653 / 66,120 / 67,212), tunnel 24.2 / 22.3 / 22.0 / 22.9 / 22.5 s; the arch's
 /// one cut step at 1 and 16 moves with any change of rounding (0 at 8, 32 and never).
-const MIN_LU_PIECES: usize = 8;
+pub const MIN_LU_PIECES: usize = 8;
 /// Most GMRES iterations with a fresh LU of the whole tangent before it is given up for the
 /// step (an exact factor needs one, two with a pattern that leaves out small entries).
 const FRESH_LU_ITERATIONS: usize = 12;

@@ -66,6 +66,40 @@ pub fn scatter_through(values: &mut [f64], slots: &[u32], places: &[u8], local: 
     }
 }
 
+/// [`scatter_through`] into one part of the values: `part` holds the slots `lo ..
+/// lo + part.len()` of the whole, and the block's entries in other slots (another part's)
+/// are skipped. Every slot a part holds receives the same sums in the same order as from
+/// [`scatter_through`] into the whole.
+#[inline]
+pub fn scatter_through_part(
+    part: &mut [f64],
+    lo: usize,
+    slots: &[u32],
+    places: &[u8],
+    local: &[f64],
+) {
+    let m = places.len();
+    let len = part.len();
+    for (i, &pi) in places.iter().enumerate() {
+        if pi == NO_PLACE {
+            continue;
+        }
+        let row = &slots[pi as usize * m..(pi as usize + 1) * m];
+        let lrow = &local[i * m..(i + 1) * m];
+        for (&pj, &v) in places.iter().zip(lrow) {
+            if pj == NO_PLACE {
+                continue;
+            }
+            let s = row[pj as usize];
+            // (u32::MAX, no slot, is beyond every part)
+            let o = (s as usize).wrapping_sub(lo);
+            if s != u32::MAX && o < len {
+                part[o] += v;
+            }
+        }
+    }
+}
+
 /// Gather the local values of a global vector (zero for [`NO_DOF`]).
 pub fn gather<const N: usize>(x: &[f64], dofs: &[usize; N]) -> [f64; N] {
     let mut out = [0.0; N];

@@ -1180,25 +1180,25 @@ impl ContactSet {
                 })
                 .collect();
         }
-        // current boundary polylines
-        let polys: Vec<Vec<Vec2>> = disc
-            .boundaries
-            .iter()
-            .map(|b| {
-                b.vertices
-                    .iter()
-                    .map(|v| {
-                        let d = disc.displacement_at(&v.at, u);
-                        [v.x0[0] + d[0], v.x0[1] + d[1]]
-                    })
-                    .collect()
-            })
-            .collect();
-        let corners: Vec<Vec<bool>> = disc
-            .boundaries
-            .iter()
-            .map(|b| b.vertices.iter().map(|v| v.corner).collect())
-            .collect();
+        // current boundary polylines (each block's on the run's threads)
+        let nb = disc.boundaries.len();
+        let polys: Vec<Vec<Vec2>> = self.threads.map(nb, |i| {
+            disc.boundaries[i]
+                .vertices
+                .iter()
+                .map(|v| {
+                    let d = disc.displacement_at(&v.at, u);
+                    [v.x0[0] + d[0], v.x0[1] + d[1]]
+                })
+                .collect()
+        });
+        let corners: Vec<Vec<bool>> = self.threads.map(nb, |i| {
+            disc.boundaries[i]
+                .vertices
+                .iter()
+                .map(|v| v.corner)
+                .collect()
+        });
         let boxes: Vec<Aabb> = polys
             .iter()
             .map(|p| Aabb::of_points(p).inflate(search))
@@ -1243,11 +1243,9 @@ impl ContactSet {
         // each block's outline, once for all its pairs (with the grid of a long one for
         // the pairs' reach: their depths are at most the search distance)
         let prm = NarrowParams::new(search);
-        let outlines: Vec<Outline> = polys
-            .iter()
-            .zip(&disc.boundaries)
-            .map(|(p, b)| Outline::new(p, &b.loops).with_grid(&prm))
-            .collect();
+        let outlines: Vec<Outline> = self.threads.map(nb, |i| {
+            Outline::new(&polys[i], &disc.boundaries[i].loops).with_grid(&prm)
+        });
         let geometry = DetectGeometry {
             disc,
             model,

@@ -47,23 +47,11 @@ pub const NO_PLACE: u8 = u8::MAX;
 /// shared by several blocks (contacts between the same two elements) keep one set of slots.
 #[inline]
 pub fn scatter_through(values: &mut [f64], slots: &[u32], places: &[u8], local: &[f64]) {
-    let m = places.len();
-    for (i, &pi) in places.iter().enumerate() {
-        if pi == NO_PLACE {
-            continue;
-        }
-        let row = &slots[pi as usize * m..(pi as usize + 1) * m];
-        let lrow = &local[i * m..(i + 1) * m];
-        for (&pj, &v) in places.iter().zip(lrow) {
-            if pj == NO_PLACE {
-                continue;
-            }
-            let s = row[pj as usize];
-            if s != u32::MAX {
-                values[s as usize] += v;
-            }
-        }
-    }
+    // (into the whole, no slot is another part's)
+    debug_assert!(slots
+        .iter()
+        .all(|&s| s == u32::MAX || (s as usize) < values.len()));
+    scatter_through_part(values, 0, slots, places, local);
 }
 
 /// [`scatter_through`] into one part of the values: `part` holds the slots `lo ..

@@ -1183,14 +1183,7 @@ impl ContactSet {
         // current boundary polylines (each block's on the run's threads)
         let nb = disc.boundaries.len();
         let polys: Vec<Vec<Vec2>> = self.threads.map(nb, |i| {
-            disc.boundaries[i]
-                .vertices
-                .iter()
-                .map(|v| {
-                    let d = disc.displacement_at(&v.at, u);
-                    [v.x0[0] + d[0], v.x0[1] + d[1]]
-                })
-                .collect()
+            disc.current_positions(&disc.boundaries[i].vertices, u)
         });
         let corners: Vec<Vec<bool>> = self.threads.map(nb, |i| {
             disc.boundaries[i]

@@ -284,6 +284,17 @@ impl Discretisation {
     pub fn displacement_at(&self, p: &MaterialPoint, u: &[f64]) -> Vec2 {
         self.basis.displacement_at(self, p.element, &p.weights, u)
     }
+
+    /// The current positions (initial plus displacement `u`) of boundary vertices.
+    pub fn current_positions(&self, vertices: &[super::BoundaryVertex], u: &[f64]) -> Vec<Vec2> {
+        vertices
+            .iter()
+            .map(|v| {
+                let d = self.displacement_at(&v.at, u);
+                [v.x0[0] + d[0], v.x0[1] + d[1]]
+            })
+            .collect()
+    }
 }
 
 #[cfg(test)]

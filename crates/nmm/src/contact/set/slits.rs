@@ -74,16 +74,8 @@ impl ContactSet {
             let Some(iface) = model.interface_for_face(b, b, Some(s.joint)) else {
                 continue;
             };
-            let cur: [Vec<Vec2>; 2] = std::array::from_fn(|f| {
-                s.faces[f]
-                    .vertices
-                    .iter()
-                    .map(|v| {
-                        let d = disc.displacement_at(&v.at, u);
-                        [v.x0[0] + d[0], v.x0[1] + d[1]]
-                    })
-                    .collect()
-            });
+            let cur: [Vec<Vec2>; 2] =
+                std::array::from_fn(|f| disc.current_positions(&s.faces[f].vertices, u));
             for f in 0..2 {
                 let g = 1 - f;
                 // the outward normal of face g: face 0's is right of the crack's direction

@@ -1102,6 +1102,7 @@ impl Simulation {
             bolts: &mut self.bolts,
             tangent: &mut lp.tangent,
             threads: &self.threads,
+            inertia: cm > 0.0,
             sigma: 0.0,
             scale: 0.0,
             work: Vec::with_capacity(rhs.f.len()),

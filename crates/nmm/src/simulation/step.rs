@@ -639,6 +639,8 @@ pub(crate) struct StepSystem<'a> {
     pub bolts: &'a mut crate::bolt::BoltSet,
     pub tangent: &'a mut TangentPattern,
     pub threads: &'a crate::parallel::Threads,
+    /// The step's inertia coefficient is in `l` (a dynamic step).
+    pub inertia: bool,
     pub sigma: f64,
     pub scale: f64,
     pub work: Vec<f64>,
@@ -685,6 +687,10 @@ impl TangentOperator for StepSystem<'_> {
         }
         self.contacts.apply_tangent(v, y);
         self.bolts.apply_tangent(v, y);
+    }
+
+    fn has_inertia(&self) -> bool {
+        self.inertia
     }
 
     fn pattern(&mut self) -> Arc<SparsePattern> {

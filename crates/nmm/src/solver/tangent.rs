@@ -18,7 +18,9 @@
 //!      pivoting of J** itself ([`Cholesky::factorize_lu_on`]: the same ordering,
 //!      supernodes and storage as the Cholesky factor, L and Uᵀ; a negative pivot is
 //!      accepted, a zero one is not), then GMRES preconditioned by it, which converges in
-//!      one iteration (two when the pattern leaves out small entries); if the LU meets a
+//!      one iteration (two when the pattern leaves out small entries) — or, for a loose
+//!      solve of a dynamic step's tangent (`DIRECT_RTOL`), the LU's own solve, with no
+//!      product with the tangent to check it; if the LU meets a
 //!      zero pivot or GMRES does not converge in `FRESH_LU_ITERATIONS`, the step goes on
 //!      with the Cholesky factor below;
 //!    * else the **Cholesky** factorisation of the symmetric part the system assembles: J
@@ -34,7 +36,8 @@
 //! A tangent whose pattern leaves out some small entries
 //! ([`TangentOperator::pattern_is_complete`]: a contact's rows of weight below 10⁻⁴,
 //! contact/set.rs `PRECONDITIONER_WEIGHT`) is never solved directly: its factor
-//! preconditions GMRES on the full tangent.
+//! preconditions GMRES on the full tangent (but for the loose solves of a dynamic step
+//! above: the entries left out are below the loose tolerance).
 //!
 //! Why the LU without pivoting (2026-12-04): the Cholesky factor of the symmetric part
 //! left ~10 GMRES iterations per solve on the brick walls and ~18 on the shaken slope
@@ -101,6 +104,12 @@ pub trait TangentOperator {
     /// The threads the solves may use (default: the calling thread only).
     fn threads(&self) -> crate::parallel::Threads {
         crate::parallel::Threads::default()
+    }
+    /// Whether A holds a step's inertia (the tangent of a dynamic step, (4/Δt²) M among its
+    /// terms), so that its LU without pivoting is accurate: the mass term holds the modes
+    /// that contacts leave free. Default: no.
+    fn has_inertia(&self) -> bool {
+        false
     }
     /// Whether `pattern()` holds every entry of A (valid after `pattern()`). If not,
     /// `assemble` leaves some small entries out (a preconditioner's pattern): no solve
@@ -224,6 +233,25 @@ pub const MIN_LU_PIECES: usize = 8;
 /// Most GMRES iterations with a fresh LU of the whole tangent before it is given up for the
 /// step (an exact factor needs one, two with a pattern that leaves out small entries).
 const FRESH_LU_ITERATIONS: usize = 12;
+/// Loosest relative residual asked of a solve (the Newton driver's solves while the active
+/// set moves, newton.rs `LOOSE`) that a fresh LU of the whole tangent of an operator with
+/// inertia ([`TangentOperator::has_inertia`]) answers by its own solve, unchecked: GMRES
+/// took one iteration there (the LU is of the tangent without its rows below the pattern's
+/// floor, 10⁻⁴ of a contact's largest), and that iteration's product with the tangent was
+/// as costly as the triangular solves. Measured (2026-12-05, two threads): the walls' 12
+/// steps the same Newton solves (54 / 66 / 57 / 57 at 10×10 … 40×40), GMRES iterations 59 /
+/// 71 / 62 / 59 → 6 / 6 / 6 / 4; alternated, medians of 15: 10×10 1.89 → 1.84 ms/step,
+/// 20×20 10.43 → 9.99 (its solve stage 17–19 → 11 ms over the 12 steps), 40×40 56.8 → 54.4
+/// (3); the slope of ~1000 blocks 126.2 → 124.3 ms/step; the arch example 0 cuts both,
+/// 18,908 → 19,511 solves, 8.9 → 8.8 s; the tunnel 1,047 → 1,060 solves; the shaking-table
+/// slope as before; the shaken slope (a chaotic problem: read the sums of its families, 28
+/// PGAs from 0.24 to 0.38 g, one thread) 701 → 705 cut steps of about 71,000, 374,248 →
+/// 370,119 solves (the 14 PGAs of the stops before 298 → 367, 14 new ones halfway between
+/// them 403 → 338); the example (0.3 g) 13 → 15 cut steps, the most solves in a step 56 → 39.
+/// Not in static steps (no inertia): the jointed slope example, static, found no
+/// equilibrium in 5 of its 40 steps instead of 1 and took 233 solves instead of 200 — near
+/// a mechanism the LU without pivoting is inaccurate and GMRES's iteration corrected it.
+const DIRECT_RTOL: f64 = 1e-3;
 /// Most GMRES iterations with a held LU before refreshing it: none. A factor of the last
 /// iterate's tangent, held across its active-set change, wasted its budget in 42 of 64
 /// solves of the 20×20 wall (12 steps): budget 3 took 255 GMRES iterations and 55
@@ -457,6 +485,14 @@ impl TangentSolver {
         // else (or if that fails) the Cholesky factor of its symmetric part
         if !self.lu_refused && op.unsymmetric_pieces() >= MIN_LU_PIECES {
             let r = match self.refresh(op, true) {
+                Ok(()) if rtol >= DIRECT_RTOL && op.has_inertia() => {
+                    let t = Instant::now();
+                    x.copy_from_slice(rhs);
+                    let r = self.chol.solve_in_place_on(x, &op.threads());
+                    self.stats.solve_time += t.elapsed();
+                    // (a solve that is not finite: the symmetric part's factor, as below)
+                    r.map(|()| x.iter().all(|v| v.is_finite()))
+                }
                 Ok(()) => self.gmres(op, rhs, x, rtol, FRESH_LU_ITERATIONS, false),
                 Err(e) => Err(e),
             };
@@ -523,6 +559,8 @@ mod tests {
         /// A symmetric coupling of unknowns 0 and n/2 that A has but the pattern has not
         /// (a contact's small rows left out of the pattern).
         hidden: f64,
+        /// What [`TangentOperator::has_inertia`] says.
+        inertia: bool,
         pattern: Arc<SparsePattern>,
     }
 
@@ -536,6 +574,7 @@ mod tests {
                 d,
                 c,
                 hidden: 0.0,
+                inertia: false,
                 pattern,
             }
         }
@@ -590,6 +629,9 @@ mod tests {
         fn pattern_is_complete(&self) -> bool {
             self.hidden == 0.0
         }
+        fn has_inertia(&self) -> bool {
+            self.inertia
+        }
     }
 
     fn residual(op: &Tri, x: &[f64], b: &[f64]) -> f64 {
@@ -631,6 +673,40 @@ mod tests {
             st.gmres_iterations >= 1 && st.gmres_iterations <= 4,
             "{st:?}"
         );
+    }
+
+    /// A loose solve (to 10⁻³, as Newton's while the active set moves) with a fresh LU of
+    /// the whole tangent of an operator with inertia is the LU's own solve, no product with
+    /// the tangent; an accurate solve, or one of an operator without inertia, goes through
+    /// GMRES. With a small coupling left out of the pattern the LU's own solve is still
+    /// within the loose tolerance.
+    #[test]
+    fn a_loose_solve_with_inertia_is_the_lus_own() {
+        let b: Vec<f64> = (0..30).map(|i| 1.0 + (i as f64 * 0.7).sin()).collect();
+        let bn = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (inertia, rtol, hidden, direct) in [
+            (true, 1e-3, 0.0, true),
+            (true, 1e-3, 1e-4, true),
+            (true, 1e-8, 1e-4, false),
+            (false, 1e-3, 1e-4, false),
+        ] {
+            let mut op = Tri::new(vec![3.0; 30], 0.7);
+            op.inertia = inertia;
+            op.hidden = hidden;
+            let mut s = TangentSolver::default();
+            let mut x = vec![0.0; 30];
+            s.solve(&mut op, &b, &mut x, rtol).unwrap();
+            let st = s.stats();
+            let case = format!("inertia {inertia}, rtol {rtol}, hidden {hidden}: {st:?}");
+            assert_eq!(st.unsymmetric_factorisations, 1, "{case}");
+            assert_eq!(st.gmres_iterations == 0, direct, "{case}");
+            let r = residual(&op, &x, &b) / bn;
+            assert!(r <= rtol.max(1e-12), "{case}: residual {r}");
+            if hidden == 0.0 {
+                // the LU of the whole tangent: exact
+                assert!(r < 1e-12, "{case}: residual {r}");
+            }
+        }
     }
 
     #[test]

@@ -247,7 +247,8 @@ const FRESH_LU_ITERATIONS: usize = 12;
 /// slope as before; the shaken slope (a chaotic problem: read the sums of its families, 28
 /// PGAs from 0.24 to 0.38 g, one thread) 701 → 705 cut steps of about 71,000, 374,248 →
 /// 370,119 solves (the 14 PGAs of the stops before 298 → 367, 14 new ones halfway between
-/// them 403 → 338); the example (0.3 g) 13 → 15 cut steps, the most solves in a step 56 → 39.
+/// them 403 → 338); the example (0.3 g) 13 → 15 cut steps, the most solves in a step (its
+/// failed attempts counted) 56 → 46.
 /// Not in static steps (no inertia): the jointed slope example, static, found no
 /// equilibrium in 5 of its 40 steps instead of 1 and took 233 solves instead of 200 — near
 /// a mechanism the LU without pivoting is inaccurate and GMRES's iteration corrected it.

@@ -105,7 +105,7 @@ pub trait TangentOperator {
     fn threads(&self) -> crate::parallel::Threads {
         crate::parallel::Threads::default()
     }
-    /// Whether A holds a step's inertia (the tangent of a dynamic step, (4/Δt²) M among its
+    /// Whether A holds a step's inertia (the tangent of a dynamic step, (2/Δt²) M among its
     /// terms), so that its LU without pivoting is accurate: the mass term holds the modes
     /// that contacts leave free. Default: no.
     fn has_inertia(&self) -> bool {

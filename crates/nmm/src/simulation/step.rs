@@ -936,6 +936,29 @@ mod update_tests {
     use super::super::{Rhs, Simulation};
     use crate::solver::{PiecewiseSystem, TangentOperator};
 
+    /// The simulation of the model `text` after its first `steps` steps.
+    fn after_steps(text: &str, steps: usize) -> Simulation {
+        let model = crate::model::parse_model(text, std::path::Path::new(".")).unwrap();
+        let mut sim = Simulation::new(model).unwrap();
+        for _ in 0..steps {
+            sim.advance().unwrap();
+        }
+        sim
+    }
+
+    /// `f` on the next step's system (Δt 1 ms) with no load: its tangents only are used.
+    fn with_zero_load<T>(sim: &mut Simulation, f: impl FnOnce(&mut super::StepSystem) -> T) -> T {
+        let n = sim.n_dofs();
+        let (load, load_abs) = (vec![0.0; n], vec![0.0; n]);
+        let rhs = Rhs {
+            f: &load,
+            f_ext_abs: &load_abs,
+            t1: sim.time + 0.001,
+            dt: 0.001,
+        };
+        sim.with_system(&rhs, 1.0e6, None, |sys, _| f(sys))
+    }
+
     /// A tangent updated contact by contact ([`TangentOperator::update_assembly`]) is the
     /// tangent assembled anew, to rounding, whatever branches the contacts moved between
     /// (open, stuck, sliding); an update is refused for another kind or another σ.
@@ -952,18 +975,9 @@ mod update_tests {
              vertices = [[0.0, 0.0], [1.0, 0.0], [1.0, 0.5], [0.0, 0.5]]\n\
              [[block]]\nname = \"b\"\nmaterial = \"m\"\n\
              vertices = [[0.2, 0.5], [0.8, 0.5], [0.8, 1.0], [0.2, 1.0]]\n";
-        let model = crate::model::parse_model(text, std::path::Path::new(".")).unwrap();
-        let mut sim = Simulation::new(model).unwrap();
-        sim.advance().unwrap();
+        let mut sim = after_steps(text, 1);
         let n = sim.n_dofs();
-        let (f, f_abs) = (vec![0.0; n], vec![0.0; n]);
-        let rhs = Rhs {
-            f: &f,
-            f_ext_abs: &f_abs,
-            t1: 0.002,
-            dt: 0.001,
-        };
-        sim.with_system(&rhs, 1.0e6, None, |sys, _| {
+        with_zero_load(&mut sim, |sys| {
             assert!(sys.contacts.contacts.len() >= 4);
             let nnz = sys.pattern().nnz();
             let fresh = |sys: &mut super::StepSystem, symmetric| {
@@ -1007,23 +1021,12 @@ mod update_tests {
     fn a_tangent_assembled_in_two_parts_is_the_one_assembled_whole() {
         let mut o = crate::generate::WallOptions::new(10, 10);
         o.steps = 3;
-        let text = crate::generate::brick_wall_model(&o);
-        let model = crate::model::parse_model(&text, std::path::Path::new(".")).unwrap();
-        let mut sim = Simulation::new(model).unwrap();
-        sim.advance().unwrap();
-        sim.advance().unwrap();
+        let mut sim = after_steps(&crate::generate::brick_wall_model(&o), 2);
         let n = sim.n_dofs();
-        let (f, f_abs) = (vec![0.0; n], vec![0.0; n]);
-        let rhs = Rhs {
-            f: &f,
-            f_ext_abs: &f_abs,
-            t1: 0.003,
-            dt: 0.001,
-        };
         let mut assembled = Vec::new();
         for t in [1, 2] {
             sim.set_threads(crate::parallel::Threads::new(t).unwrap());
-            assembled.push(sim.with_system(&rhs, 1.0e6, None, |sys, _| {
+            assembled.push(with_zero_load(&mut sim, |sys| {
                 // enough contacts for two parts, some of them sliding (unsymmetric blocks)
                 assert!(sys.contacts.contacts.len() >= crate::parallel::MIN_PARALLEL);
                 let du: Vec<f64> = (0..n).map(|i| 1e-5 * ((i as f64) * 1.7).sin()).collect();

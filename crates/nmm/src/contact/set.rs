@@ -201,6 +201,10 @@ pub struct Contact {
     pub coef: [f64; 4],
     /// The law's response (on its own branch) at the latest true evaluation.
     pub response: LawResponse,
+    /// The branch the iteration rules choose at the latest true evaluation (from the
+    /// branch chosen then), whether it is the law's own there, and its tangent: what
+    /// [`ContactSet::choose_branches`] computes at that point (see `ContactSet::evaluated`).
+    next: (Branch, bool, [f64; 4]),
     /// Vertex position at the start of the step.
     pub position: Vec2,
     pub normal: Vec2,
@@ -209,6 +213,11 @@ pub struct Contact {
     pub joint: Option<usize>,
     /// The interface's restitution, if it has one (its dashpot is in `params`).
     pub restitution: Option<f64>,
+}
+
+/// Whether `a` and `b` hold the same values, bit for bit.
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 /// (a + b_N · v, b_S · v) over a contact's rows.
@@ -437,6 +446,13 @@ pub struct ContactSet {
     chosen_own: bool,
     /// See [`ContactSet::unsymmetric_count`].
     unsymmetric: usize,
+    /// The iterate of the latest true evaluation ([`ContactSet::add_forces`] with `own`),
+    /// bit for bit, while each contact's `next` holds the choice of branches there (made
+    /// from the branches chosen then; cleared by any choice, commit or detection): a
+    /// choice at that iterate takes it instead of evaluating every contact again.
+    evaluated: Vec<f64>,
+    /// `evaluated` and the contacts' `next` hold a choice.
+    next_valid: bool,
     /// The run's threads: the laws of the contacts are evaluated on them (local work), the
     /// forces scattered in contact order.
     pub threads: crate::parallel::Threads,
@@ -546,6 +562,8 @@ impl Default for ContactSet {
             unsymmetric: 0,
             threads: Default::default(),
             half: Vec::new(),
+            evaluated: Vec::new(),
+            next_valid: false,
             dissipated: Vec::new(),
             touch_tol: 0.0,
             spacing: 0.0,
@@ -1114,6 +1132,7 @@ impl ContactSet {
             branch: Branch::Open,
             coef: [0.0; 4],
             response,
+            next: (Branch::Open, false, [0.0; 4]),
             position,
             normal,
             tangent,
@@ -1149,6 +1168,7 @@ impl ContactSet {
         self.chosen_own = false;
         self.unsymmetric = 0;
         self.generation += 1;
+        self.next_valid = false;
         let basis = disc.basis;
         let ne = basis.element_dofs();
         self.row_len = 2 * ne;
@@ -1351,6 +1371,27 @@ impl ContactSet {
     /// [`super::law::FrictionLaw::iteration_branch`]; `first`: the first iterate of the step). Returns
     /// how many contacts changed branch (at the first iterate: how many are not open).
     pub fn choose_branches(&mut self, du: &[f64], first: bool) -> usize {
+        let ready =
+            std::mem::take(&mut self.next_valid) && !first && same_bits(&self.evaluated, du);
+        if ready {
+            // the latest true evaluation was at `du` and made this choice already
+            let ((c0, u0, o0), second) = self.split_pass(&mut [], &mut [], |cs, _, _| {
+                let (mut changed, mut unsymmetric, mut own) = (0, 0, true);
+                for c in cs {
+                    let (b, is_own, coef) = c.next;
+                    own &= is_own;
+                    changed += usize::from(b != c.branch);
+                    c.branch = b;
+                    c.coef = coef;
+                    unsymmetric += usize::from(c.unsymmetric());
+                }
+                (changed, unsymmetric, own)
+            });
+            let (c1, u1, o1) = second.unwrap_or((0, 0, true));
+            self.chosen_own = o0 && o1;
+            self.unsymmetric = u0 + u1;
+            return c0 + c1;
+        }
         let ((c0, u0, o0), second) = self.split_pass(&mut [], &mut [], |cs, _, _| {
             let (mut changed, mut unsymmetric, mut own) = (0, 0, true);
             for c in cs {
@@ -1389,6 +1430,7 @@ impl ContactSet {
     /// Put every contact on the law's own branch at `du` (no iteration rule). Returns how
     /// many contacts changed branch.
     pub fn choose_own_branches(&mut self, du: &[f64]) -> usize {
+        self.next_valid = false;
         let ((c0, u0), second) = self.split_pass(&mut [], &mut [], |cs, _, _| {
             let (mut changed, mut unsymmetric) = (0, 0);
             for c in cs {
@@ -1424,6 +1466,11 @@ impl ContactSet {
     ) -> usize {
         let mags = magnitudes.is_some();
         let w = magnitudes.unwrap_or(&mut []);
+        if own {
+            self.evaluated.clear();
+            self.evaluated.extend_from_slice(du);
+        }
+        self.next_valid = own;
         let (a, b) = self.split_pass(r, w, |cs, r, w| {
             let mut inconsistent = 0;
             for c in cs {
@@ -1433,6 +1480,19 @@ impl ContactSet {
                     let b = law.branch(&c.params, &c.history, gn, gs);
                     inconsistent += usize::from(b != c.branch);
                     c.response = law.on_branch(&c.params, &c.history, gn, gs, b);
+                    // the choice of branches here ([`ContactSet::choose_branches`], not
+                    // at the first iterate)
+                    let ctx = IterationContext {
+                        previous: Some(c.branch),
+                        touching: c.touching,
+                    };
+                    let next = law.iteration_branch(&c.params, &c.history, gn, gs, ctx);
+                    c.next = if next == b {
+                        (b, true, tangent4(&c.response))
+                    } else {
+                        let r = law.on_branch(&c.params, &c.history, gn, gs, next);
+                        (next, false, tangent4(&r))
+                    };
                     c.response
                 } else {
                     law.on_branch(&c.params, &c.history, gn, gs, c.branch)
@@ -1673,6 +1733,7 @@ impl ContactSet {
     /// Commit the converged increment: every contact's law response becomes its history.
     pub fn commit(&mut self, du: &[f64]) {
         self.commits += 1;
+        self.next_valid = false;
         self.committed.clear();
         self.seen.clear();
         self.dissipation = StepDissipation::default();

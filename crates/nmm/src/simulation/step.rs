@@ -934,6 +934,7 @@ mod tests {
 #[cfg(test)]
 mod update_tests {
     use super::super::{Rhs, Simulation};
+    use crate::contact::law::Branch;
     use crate::solver::{PiecewiseSystem, TangentOperator};
 
     /// The simulation of the model `text` after its first `steps` steps.
@@ -1040,5 +1041,62 @@ mod update_tests {
         assert!(assembled[0].0.iter().any(|&v| v != 0.0));
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&assembled[0].0), bits(&assembled[1].0));
+    }
+
+    /// A choice of branches at the iterate of the latest true residual takes what that
+    /// evaluation prepared (contact/set.rs `ContactSet::evaluated`): it is, bit for bit, the
+    /// choice made afresh from the same branches — at that iterate, and at another one
+    /// (where nothing prepared may be taken).
+    #[test]
+    fn a_choice_after_a_true_residual_is_the_choice_made_afresh() {
+        let mut o = crate::generate::WallOptions::new(10, 10);
+        o.steps = 3;
+        let mut sim = after_steps(&crate::generate::brick_wall_model(&o), 2);
+        let n = sim.n_dofs();
+        with_zero_load(&mut sim, |sys| {
+            let at = |a: f64, f: f64| -> Vec<f64> {
+                (0..n).map(|i| a * ((i as f64) * f).sin()).collect()
+            };
+            let state = |sys: &super::StepSystem| -> Vec<(Branch, [u64; 4])> {
+                sys.contacts
+                    .contacts
+                    .iter()
+                    .map(|c| (c.branch, c.coef.map(f64::to_bits)))
+                    .collect()
+            };
+            let restore = |sys: &mut super::StepSystem, s: &[(Branch, [u64; 4])]| {
+                for (c, (b, k)) in sys.contacts.contacts.iter_mut().zip(s) {
+                    c.branch = *b;
+                    c.coef = k.map(f64::from_bits);
+                }
+            };
+            sys.choose_branches(&at(1e-5, 1.7), true);
+            let mut r = vec![0.0; n];
+            let mut changes = 0;
+            for (k, (a, f)) in [(2e-5, 0.3), (1e-5, 2.9), (3e-5, 1.1), (5e-6, 0.7)]
+                .into_iter()
+                .enumerate()
+            {
+                let x = at(a, f);
+                let before = state(sys);
+                // afresh
+                let fresh = sys.choose_branches(&x, false);
+                let (fresh_state, fresh_own) = (state(sys), sys.chosen_are_own());
+                // after a true residual at x (prepared), or at another iterate
+                restore(sys, &before);
+                let evaluated = if k % 2 == 0 {
+                    x.clone()
+                } else {
+                    at(a, 1.3 * f)
+                };
+                sys.residual(&evaluated, &mut r);
+                let prepared = sys.choose_branches(&x, false);
+                assert_eq!(prepared, fresh, "iterate {k}");
+                assert_eq!(sys.chosen_are_own(), fresh_own, "iterate {k}");
+                assert!(state(sys) == fresh_state, "iterate {k}");
+                changes += fresh;
+            }
+            assert!(changes > 0, "no contact changed branch");
+        });
     }
 }

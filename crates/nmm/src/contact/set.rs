@@ -1464,6 +1464,20 @@ impl ContactSet {
         own: bool,
         magnitudes: Option<&mut [f64]>,
     ) -> usize {
+        self.add_forces_along(du, None, r, own, magnitudes).0
+    }
+
+    /// [`ContactSet::add_forces`], and with `along` = Some(v) the largest relative motion
+    /// of a direction v ([`ContactSet::largest_relative_motion`]) in the same pass (0
+    /// without).
+    pub fn add_forces_along(
+        &mut self,
+        du: &[f64],
+        along: Option<&[f64]>,
+        r: &mut [f64],
+        own: bool,
+        magnitudes: Option<&mut [f64]>,
+    ) -> (usize, f64) {
         let mags = magnitudes.is_some();
         let w = magnitudes.unwrap_or(&mut []);
         if own {
@@ -1472,10 +1486,14 @@ impl ContactSet {
         }
         self.next_valid = own;
         let (a, b) = self.split_pass(r, w, |cs, r, w| {
-            let mut inconsistent = 0;
+            let (mut inconsistent, mut motion) = (0, 0.0f64);
             for c in cs {
                 let law = c.law.law();
                 let (gn, gs) = c.gaps(du);
+                if let Some(v) = along {
+                    let (a, b) = c.rates(v);
+                    motion = motion.max(a.abs().max(b.abs()));
+                }
                 let resp = if own {
                     let b = law.branch(&c.params, &c.history, gn, gs);
                     inconsistent += usize::from(b != c.branch);
@@ -1505,9 +1523,11 @@ impl ContactSet {
                     c.add_magnitudes(resp.tn, resp.ts, w);
                 }
             }
-            inconsistent
+            (inconsistent, motion)
         });
-        a + b.unwrap_or(0)
+        // a largest value is the same whatever the split
+        let (b0, b1) = b.unwrap_or((0, 0.0));
+        (a.0 + b0, a.1.max(b1))
     }
 
     /// Run `pass` over the contacts — in two fixed halves from [`SPLIT_PRODUCT`] contacts

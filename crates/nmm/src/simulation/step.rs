@@ -658,6 +658,47 @@ impl StepSystem<'_> {
         )
     }
 
+    /// The true residual at `x` (every piece on its own branch) into `r`, with the physical
+    /// force scale; with `along` = Some(d), the largest relative motion of d at a contact
+    /// ([`PiecewiseSystem::step_size`]) in the same pass (0 without). Returns how many
+    /// pieces are on another branch than the chosen one, and that motion.
+    fn residual_measuring(
+        &mut self,
+        x: &[f64],
+        along: Option<&[f64]>,
+        r: &mut [f64],
+    ) -> (usize, f64) {
+        self.linear_residual(x, r);
+        // physical force scale: loads and weights, constraint reactions, contact forces
+        let mut w = std::mem::take(&mut self.work);
+        w.clear();
+        w.extend_from_slice(self.f_ext_abs);
+        for (p, &target) in self.penalties.iter().zip(self.targets) {
+            let n = p.dofs.len();
+            for i in 0..n {
+                if p.dofs[i] == NO_DOF {
+                    continue;
+                }
+                let mut f = -target * p.g[i];
+                for j in 0..n {
+                    let d = p.dofs[j];
+                    if d != NO_DOF {
+                        f += p.k[i * n + j] * (self.u_n[d] + x[d]);
+                    }
+                }
+                w[p.dofs[i]] += f.abs();
+            }
+        }
+        let (inconsistent, motion) =
+            self.contacts
+                .add_forces_along(x, along, r, true, Some(&mut w));
+        let inconsistent = inconsistent + self.bolts.add_forces(x, r, true);
+        self.bolts.add_force_magnitudes(x, &mut w);
+        self.scale = w.iter().map(|v| v * v).sum::<f64>().sqrt();
+        self.work = w;
+        (inconsistent, motion)
+    }
+
     fn linear_residual(&self, x: &[f64], r: &mut [f64]) {
         // the same row sums as sym_mul, on the run's threads
         let l = self.l;
@@ -829,33 +870,13 @@ impl PiecewiseSystem for StepSystem<'_> {
     }
 
     fn residual(&mut self, x: &[f64], r: &mut [f64]) -> usize {
-        self.linear_residual(x, r);
-        // physical force scale: loads and weights, constraint reactions, contact forces
-        let mut w = std::mem::take(&mut self.work);
-        w.clear();
-        w.extend_from_slice(self.f_ext_abs);
-        for (p, &target) in self.penalties.iter().zip(self.targets) {
-            let n = p.dofs.len();
-            for i in 0..n {
-                if p.dofs[i] == NO_DOF {
-                    continue;
-                }
-                let mut f = -target * p.g[i];
-                for j in 0..n {
-                    let d = p.dofs[j];
-                    if d != NO_DOF {
-                        f += p.k[i * n + j] * (self.u_n[d] + x[d]);
-                    }
-                }
-                w[p.dofs[i]] += f.abs();
-            }
-        }
-        let inconsistent =
-            self.contacts.add_forces(x, r, true, Some(&mut w)) + self.bolts.add_forces(x, r, true);
-        self.bolts.add_force_magnitudes(x, &mut w);
-        self.scale = w.iter().map(|v| v * v).sum::<f64>().sqrt();
-        self.work = w;
-        inconsistent
+        self.residual_measuring(x, None, r).0
+    }
+
+    /// The true residual and the direction's size ([`StepSystem::step_size`]) in one pass
+    /// over the contacts.
+    fn residual_along(&mut self, x: &[f64], d: &[f64], r: &mut [f64]) -> (usize, f64) {
+        self.residual_measuring(x, Some(d), r)
     }
 
     fn force_scale(&self) -> f64 {
@@ -1041,6 +1062,36 @@ mod update_tests {
         assert!(assembled[0].0.iter().any(|&v| v != 0.0));
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&assembled[0].0), bits(&assembled[1].0));
+    }
+
+    /// The full step's residual and its direction's size in one pass
+    /// ([`PiecewiseSystem::residual_along`]) are, bit for bit, the true residual (with its
+    /// force scale and count of pieces off their chosen branches) and the step size
+    /// computed apart, on one thread and on two.
+    #[test]
+    fn a_residual_along_a_direction_is_the_residual_and_the_step_size() {
+        let mut o = crate::generate::WallOptions::new(10, 10);
+        o.steps = 3;
+        let mut sim = after_steps(&crate::generate::brick_wall_model(&o), 2);
+        let n = sim.n_dofs();
+        for t in [1, 2] {
+            sim.set_threads(crate::parallel::Threads::new(t).unwrap());
+            with_zero_load(&mut sim, |sys| {
+                let x: Vec<f64> = (0..n).map(|i| 1e-5 * ((i as f64) * 1.7).sin()).collect();
+                let d: Vec<f64> = (0..n).map(|i| 3e-6 * ((i as f64) * 0.9).cos()).collect();
+                sys.choose_branches(&x, true);
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                let (mut r0, mut r1) = (vec![0.0; n], vec![0.0; n]);
+                let inc0 = sys.residual(&x, &mut r0);
+                let (scale0, size0) = (sys.force_scale(), sys.step_size(&d));
+                let (inc1, size1) = sys.residual_along(&x, &d, &mut r1);
+                assert!(size0 > 0.0 && inc0 > 0, "{size0} {inc0}");
+                assert_eq!(inc0, inc1);
+                assert_eq!(size0.to_bits(), size1.to_bits());
+                assert_eq!(scale0.to_bits(), sys.force_scale().to_bits());
+                assert_eq!(bits(&r0), bits(&r1));
+            });
+        }
     }
 
     /// A choice of branches at the iterate of the latest true residual takes what that

@@ -155,6 +155,13 @@ pub trait PiecewiseSystem: TangentOperator {
     fn step_size(&self, d: &[f64]) -> f64 {
         d.iter().fold(0.0f64, |m, v| m.max(v.abs()))
     }
+    /// The true residual at `x` ([`PiecewiseSystem::residual`]) and the size of a
+    /// direction `d` ([`PiecewiseSystem::step_size`]): the driver's full step x + d and its
+    /// direction, at once where the system can (one pass over its pieces). Default: one
+    /// after the other.
+    fn residual_along(&mut self, x: &[f64], d: &[f64], r: &mut [f64]) -> (usize, f64) {
+        (self.residual(x, r), self.step_size(d))
+    }
 }
 
 /// The regularisation schedule.
@@ -354,13 +361,24 @@ pub fn solve_piecewise(
             rep.error = Some(e);
             break;
         }
+        // The full step's true residual, and the direction's size in the same pass.
+        for i in 0..n {
+            trial[i] = x[i] + d[i];
+        }
+        let t = Instant::now();
+        let (full_inc, dmax) = sys.residual_along(&trial, &d, &mut rt);
+        rep.times.contact += t.elapsed();
         // Trust region: the direction's size (PiecewiseSystem::step_size) is at most
         // `max_step`. A longer
         // step comes from a mode the chosen branches leave (nearly) without stiffness (a
         // block whose contacts all slide or open, held only by the regularisation); σ is
         // raised so that this mode moves about `max_step`, and the direction recomputed.
-        let dmax = sys.step_size(&d);
         if dmax > opts.max_step && rep.iterations < opts.max_iterations {
+            // the system back to x (its force scale, what it prepared: as if the full
+            // step had not been evaluated)
+            let t = Instant::now();
+            sys.residual(x, &mut rt);
+            rep.times.contact += t.elapsed();
             let base = if sigma > 0.0 { sigma } else { sigma0 };
             sigma = base * (10.0 * dmax / opts.max_step).clamp(10.0, 1e12);
             rep.limited_steps += 1;
@@ -370,13 +388,21 @@ pub fn solve_piecewise(
         // search from the best point when the watchdog runs out.
         let mut alpha = 1.0;
         let mut accepted = false;
+        let mut full = Some(full_inc);
         loop {
-            for i in 0..n {
-                trial[i] = x[i] + alpha * d[i];
-            }
-            let t = Instant::now();
-            let inc = sys.residual(&trial, &mut rt);
-            rep.times.contact += t.elapsed();
+            let inc = match full.take() {
+                // x + 1·d: evaluated above
+                Some(inc) => inc,
+                None => {
+                    for i in 0..n {
+                        trial[i] = x[i] + alpha * d[i];
+                    }
+                    let t = Instant::now();
+                    let inc = sys.residual(&trial, &mut rt);
+                    rep.times.contact += t.elapsed();
+                    inc
+                }
+            };
             let pt = norm(&rt);
             let decrease = pt.is_finite() && pt <= (1.0 - ARMIJO * alpha) * phi_best;
             let provisional_ok = !monotone
@@ -695,6 +721,43 @@ mod tests {
             }
         }
         assert_eq!(best, last);
+    }
+
+    /// The trust region: no accepted iterate moves farther than `max_step` (the default
+    /// size: the largest component) from the one before, so that a solve from 0 takes at
+    /// least ‖x*‖∞ / `max_step` iterates; the directions longer than that were recomputed
+    /// with a larger σ (counted), and the solve still reaches the solution.
+    #[test]
+    fn no_iterate_moves_farther_than_the_trust_region() {
+        let n = 20;
+        let mut x_free = vec![0.0; n];
+        let free = solve_piecewise(
+            &mut chain(n),
+            &mut TangentSolver::default(),
+            &mut x_free,
+            dynamic_options(false),
+        );
+        assert!(free.converged);
+        let reach = x_free.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let max_step = reach / 12.0;
+        let mut x = vec![0.0; n];
+        let rep = solve_piecewise(
+            &mut chain(n),
+            &mut TangentSolver::default(),
+            &mut x,
+            NewtonOptions {
+                max_iterations: 200,
+                max_step,
+                ..dynamic_options(false)
+            },
+        );
+        assert!(rep.converged, "{rep:?}");
+        assert!(rep.limited_steps > 0, "{rep:?}");
+        let accepted = rep.residuals.len() - 1;
+        assert!(accepted >= 12, "{accepted} iterates: {rep:?}");
+        for (a, b) in x.iter().zip(&x_free) {
+            assert!((a - b).abs() <= 1e-9 * reach, "{a} against {b}");
+        }
     }
 
     /// A warm start keeps the branches held on entry as the first choice's previous ones

@@ -812,20 +812,43 @@ impl TangentOperator for StepSystem<'_> {
         }
         let nc = self.contacts.contact_dofs();
         let n2 = nc * nc;
-        let mut k = vec![0.0; n2];
-        for (ci, (c, old)) in cs.iter().zip(t.assembled_coef.iter_mut()).enumerate() {
-            let new = ContactSet::tangent_coef(c, symmetric);
-            if new == *old {
-                continue;
+        // the contacts whose coefficients changed since the assembly, with the change:
+        // found in two halves on the run's threads (each contact read where the passes over
+        // the contacts read it, contact/set.rs `split_pass`), then scattered in contact order
+        let scan = |cs: &[Contact], old: &mut [[f64; 4]], first: usize| {
+            let mut changed = Vec::new();
+            for (i, (c, old)) in cs.iter().zip(old.iter_mut()).enumerate() {
+                let new = ContactSet::tangent_coef(c, symmetric);
+                if new == *old {
+                    continue;
+                }
+                let delta = [
+                    new[0] - old[0],
+                    new[1] - old[1],
+                    new[2] - old[2],
+                    new[3] - old[3],
+                ];
+                *old = new;
+                changed.push((first + i, delta));
             }
-            let delta = [
-                new[0] - old[0],
-                new[1] - old[1],
-                new[2] - old[2],
-                new[3] - old[3],
-            ];
-            *old = new;
-            if ContactSet::block_into(c, delta, &mut k) {
+            changed
+        };
+        let threads = self
+            .threads
+            .for_items(cs.len(), crate::parallel::MIN_PARALLEL);
+        let changed = if threads.count() > 1 {
+            let mid = cs.len() / 2;
+            let (c0, c1) = cs.split_at(mid);
+            let (o0, o1) = t.assembled_coef.split_at_mut(mid);
+            let (mut a, b) = threads.join(|| scan(c0, o0, 0), || scan(c1, o1, mid));
+            a.extend(b);
+            a
+        } else {
+            scan(cs, &mut t.assembled_coef, 0)
+        };
+        let mut k = vec![0.0; n2];
+        for (ci, delta) in changed {
+            if ContactSet::block_into(&cs[ci], delta, &mut k) {
                 t.contact_bindings[ci].scatter(values, &t.key_slots, nc, &k);
             }
         }

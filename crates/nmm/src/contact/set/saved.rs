@@ -61,5 +61,6 @@ impl ContactSet {
         self.unsymmetric = 0;
         self.chosen_own = false;
         self.generation += 1;
+        self.next_valid = false;
     }
 }

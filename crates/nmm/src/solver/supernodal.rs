@@ -30,6 +30,24 @@
 //! s, the shaken slope's 11.9 → 10.3 s; the tunnel's and the static jointed slope's within
 //! noise (one Newton iteration a step, or a regularisation that changes every value).
 //!
+//! Why an update still costs most of a factorisation on the brick walls, and why another
+//! scheme of updates was not built (2026-12-05, a flop model counted on the 20×20 wall's
+//! refreshes, steps 11 and 12: each supernode's panel w²(w + p) and each descendant's
+//! update of it w_d p_d w_s, w its columns, p its pattern's rows): the Newton iterations
+//! of a step redid 858 (the first, every supernode), 364, 229, 148, 57 and 23 of the 858
+//! supernodes, whose ancestors hold most of the work (the top's separators), and a
+//! redone supernode takes the updates of all its descendants, redone or not: 1.00, 0.97,
+//! 0.96, 0.94, 0.84 and 0.73 of a whole factorisation (5.44 a step; timed, 0.55–0.65 for
+//! the later ones). Even the redone supernodes' own panels are 0.13–0.25 of it. A
+//! multifrontal factorisation keeping every supernode's update matrix (so that a redone
+//! one adds its unchanged children's as they were, and computes only its own front:
+//! w²(w + p) + w p²) would cost 1.00, 0.92, 0.87, 0.81, 0.64 and 0.46 (4.70 a step, 14%
+//! less, about 6% of the step, for a second engine and the update matrices' memory);
+//! subtracting the old updates of the redone descendants and adding their new ones
+//! (twice the products, but only theirs) 1.75, 1.52, 1.36, 1.25, 0.89 and 0.52. The
+//! changes of a wall's Newton iteration are spread over the whole wall, and every one of
+//! them reaches the top.
+//!
 //! Kernels: each update by faer's dense product into a dense block, then scattered
 //! (measured against plain loops column by column for descendants narrower than 16
 //! columns: the arch's tangent 0.25 → 0.20 ms, a 20×20 wall's 2.4 → 1.8 ms, a 40×40 wall's

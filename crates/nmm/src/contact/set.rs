@@ -471,6 +471,9 @@ pub struct ContactSet {
     /// For each block, each boundary segment's polygon edge as (first, last) vertex indices
     /// of the refined boundary (the corners that bound it). Built at the first detection.
     faces: Vec<Vec<(usize, usize)>>,
+    /// For each block, whether each vertex of its refined boundary is a corner of the
+    /// polygon (built with `faces`).
+    corners: Vec<Vec<bool>>,
     /// Bumped whenever the contacts are replaced (detection, restore): the tangent pattern
     /// binds its slots to one generation.
     generation: u64,
@@ -569,6 +572,7 @@ impl Default for ContactSet {
             spacing: 0.0,
             commits: 0,
             faces: Vec::new(),
+            corners: Vec::new(),
             generation: 0,
             row_len: CONTACT_DOFS,
             dissipation: StepDissipation::default(),
@@ -1189,15 +1193,16 @@ impl ContactSet {
                 count += b.vertices.iter().filter(|v| !v.midpoint).count();
             }
             self.spacing = len / count.max(1) as f64;
+            self.corners = disc
+                .boundaries
+                .iter()
+                .map(|b| b.vertices.iter().map(|v| v.corner).collect())
+                .collect();
             self.faces = disc
                 .boundaries
                 .iter()
-                .map(|b| {
-                    polygon_faces_of_loops(
-                        &b.vertices.iter().map(|v| v.corner).collect::<Vec<_>>(),
-                        &b.loops,
-                    )
-                })
+                .zip(&self.corners)
+                .map(|(b, c)| polygon_faces_of_loops(c, &b.loops))
                 .collect();
         }
         // current boundary polylines (each block's on the run's threads)
@@ -1205,13 +1210,8 @@ impl ContactSet {
         let polys: Vec<Vec<Vec2>> = self.threads.map(nb, |i| {
             disc.current_positions(&disc.boundaries[i].vertices, u)
         });
-        let corners: Vec<Vec<bool>> = self.threads.map(nb, |i| {
-            disc.boundaries[i]
-                .vertices
-                .iter()
-                .map(|v| v.corner)
-                .collect()
-        });
+        // (taken while the pairs read it; put back below)
+        let corners = std::mem::take(&mut self.corners);
         let boxes: Vec<Aabb> = polys
             .iter()
             .map(|p| Aabb::of_points(p).inflate(search))
@@ -1285,6 +1285,7 @@ impl ContactSet {
                 }
             }
         }
+        self.corners = corners;
         if !disc.slits.is_empty() {
             self.detect_slits(disc, model, u, search, density, has_midpoints);
         }

@@ -991,6 +991,24 @@ mod update_tests {
         sim
     }
 
+    /// A 10×10 brick wall (the scaling study's) after its first two steps: enough contacts
+    /// for the passes' two halves, some sliding.
+    fn wall_after_two_steps() -> Simulation {
+        let mut o = crate::generate::WallOptions::new(10, 10);
+        o.steps = 3;
+        after_steps(&crate::generate::brick_wall_model(&o), 2)
+    }
+
+    /// a sin(i f) over n unknowns: an increment or a direction of every unknown.
+    fn wave(n: usize, a: f64, f: f64) -> Vec<f64> {
+        (0..n).map(|i| a * ((i as f64) * f).sin()).collect()
+    }
+
+    /// The values as bits (bit-for-bit comparisons).
+    fn bits(v: &[f64]) -> Vec<u64> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
     /// `f` on the next step's system (Δt 1 ms) with no load: its tangents only are used.
     fn with_zero_load<T>(sim: &mut Simulation, f: impl FnOnce(&mut super::StepSystem) -> T) -> T {
         let n = sim.n_dofs();
@@ -1064,9 +1082,7 @@ mod update_tests {
     /// the one assembled on one, bit for bit: every slot the same sums in the same order.
     #[test]
     fn a_tangent_assembled_in_two_parts_is_the_one_assembled_whole() {
-        let mut o = crate::generate::WallOptions::new(10, 10);
-        o.steps = 3;
-        let mut sim = after_steps(&crate::generate::brick_wall_model(&o), 2);
+        let mut sim = wall_after_two_steps();
         let n = sim.n_dofs();
         let mut assembled = Vec::new();
         for t in [1, 2] {
@@ -1074,8 +1090,7 @@ mod update_tests {
             assembled.push(with_zero_load(&mut sim, |sys| {
                 // enough contacts for two parts, some of them sliding (unsymmetric blocks)
                 assert!(sys.contacts.contacts.len() >= crate::parallel::MIN_PARALLEL);
-                let du: Vec<f64> = (0..n).map(|i| 1e-5 * ((i as f64) * 1.7).sin()).collect();
-                sys.choose_branches(&du, true);
+                sys.choose_branches(&wave(n, 1e-5, 1.7), true);
                 let mut v = vec![0.0; sys.pattern().nnz()];
                 sys.assemble(&mut v, false);
                 (v, sys.unsymmetric_pieces())
@@ -1083,7 +1098,6 @@ mod update_tests {
         }
         assert!(assembled[0].1 > 0, "no contact slides");
         assert!(assembled[0].0.iter().any(|&v| v != 0.0));
-        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&assembled[0].0), bits(&assembled[1].0));
     }
 
@@ -1093,17 +1107,13 @@ mod update_tests {
     /// computed apart, on one thread and on two.
     #[test]
     fn a_residual_along_a_direction_is_the_residual_and_the_step_size() {
-        let mut o = crate::generate::WallOptions::new(10, 10);
-        o.steps = 3;
-        let mut sim = after_steps(&crate::generate::brick_wall_model(&o), 2);
+        let mut sim = wall_after_two_steps();
         let n = sim.n_dofs();
         for t in [1, 2] {
             sim.set_threads(crate::parallel::Threads::new(t).unwrap());
             with_zero_load(&mut sim, |sys| {
-                let x: Vec<f64> = (0..n).map(|i| 1e-5 * ((i as f64) * 1.7).sin()).collect();
-                let d: Vec<f64> = (0..n).map(|i| 3e-6 * ((i as f64) * 0.9).cos()).collect();
+                let (x, d) = (wave(n, 1e-5, 1.7), wave(n, 3e-6, 0.9));
                 sys.choose_branches(&x, true);
-                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                 let (mut r0, mut r1) = (vec![0.0; n], vec![0.0; n]);
                 let inc0 = sys.residual(&x, &mut r0);
                 let (scale0, size0) = (sys.force_scale(), sys.step_size(&d));
@@ -1123,14 +1133,10 @@ mod update_tests {
     /// (where nothing prepared may be taken).
     #[test]
     fn a_choice_after_a_true_residual_is_the_choice_made_afresh() {
-        let mut o = crate::generate::WallOptions::new(10, 10);
-        o.steps = 3;
-        let mut sim = after_steps(&crate::generate::brick_wall_model(&o), 2);
+        let mut sim = wall_after_two_steps();
         let n = sim.n_dofs();
         with_zero_load(&mut sim, |sys| {
-            let at = |a: f64, f: f64| -> Vec<f64> {
-                (0..n).map(|i| a * ((i as f64) * f).sin()).collect()
-            };
+            let at = |a: f64, f: f64| wave(n, a, f);
             let state = |sys: &super::StepSystem| -> Vec<(Branch, [u64; 4])> {
                 sys.contacts
                     .contacts

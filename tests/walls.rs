@@ -122,6 +122,21 @@ fn wall_20_dynamic_release_target() {
     dynamic(20, MEDIAN_TARGET);
 }
 
+/// A wall that has come to rest (after some 30 steps of the dynamic release its contacts no
+/// longer change branch from step to step) takes one linear solve a step: the first choice
+/// of branches is the last step's where it was right the last time the two predictions
+/// differed (contact/set.rs `FirstChoice`). With the law's own branch at the predicted
+/// increment alone, the rest's small oscillation put 6 to 14 contacts on another branch at
+/// every first iterate: 2 or 3 solves a step.
+#[test]
+fn wall_10_at_rest_takes_one_solve_a_step() {
+    let r = run_wall(10, Mode::Dynamic, 1e-3, 45);
+    eprintln!("10×10 dynamic, 45 steps: solves per step {:?}", r.solves);
+    assert_eq!(r.cuts, 0);
+    let rest = &r.solves[37..];
+    assert!(rest.iter().all(|&s| s == 1), "{:?}", r.solves);
+}
+
 #[test]
 fn wall_10_static_with_one_second_steps() {
     settled(10);

@@ -211,6 +211,11 @@ pub struct Contact {
     pub tangent: Vec2,
     /// Joint that made the edge block's face, if any (it chose the interface).
     pub joint: Option<usize>,
+    /// The branch it ended the last committed step on, and its record of the first
+    /// iterate's predictions (`None`: it was not closed then).
+    pub last: Option<(Branch, FirstChoice)>,
+    /// The law's own branch at the first iterate of the step (its other prediction).
+    pub first_own: Branch,
     /// The interface's restitution, if it has one (its dashpot is in `params`).
     pub restitution: Option<f64>,
 }
@@ -218,6 +223,67 @@ pub struct Contact {
 /// Whether `a` and `b` hold the same values, bit for bit.
 fn same_bits(a: &[f64], b: &[f64]) -> bool {
     a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+/// Which prediction of a contact's branch at the first iterate of a step was right the last
+/// time the two differed ([`ContactSet::choose_branches`]): the branch the contact ended the
+/// step before on (`Last`), or the law's own branch at the step's first iterate (`Own`);
+/// `Unknown` while they never differed (the contact then follows the majority of the last
+/// step's contacts that had to choose, `ContactSet::prefer_last`).
+///
+/// Why two predictions (2026-12-05). The law's own branch at the first iterate (the last
+/// increment repeated) foresees a contact that starts or stops sliding under a steady
+/// drive, but not under an oscillation: a 10×10 brick wall come to rest (its contacts the
+/// same from step to step after some 30 steps) put 6 to 14 contacts on another branch at
+/// every first iterate — 2 or 3 solves a step where the last step's branches needed one.
+/// Counted where the two differed and the step ended on one of them (a contact that stuck
+/// last step and is predicted to slide): the last branch was right 358 times against 71 on
+/// that wall, 122 against 1,183 on the shaking-table slope, 140 against 160 in the tunnel's
+/// shaking; the trial's excess over the friction cone (10⁻⁶ to 10 times it) does not tell
+/// them apart. So each contact keeps which one was right for it. Measured against the law's
+/// own branch alone: the walls' 12 steps 54 / 66 / 57 / 57 → 51 / 65 / 57 / 58 solves
+/// (10×10 … 40×40), the 10×10 wall's 40 steps 127 → 107 (1 a step from step 33 on); the
+/// shaken slope's families (28 PGAs from 0.24 to 0.38 g, one thread; a chaotic problem:
+/// read the sums) 705 → 513 cut steps, 370,119 → 332,034 solves, runs with more than 1% of
+/// their steps cut 11 → 5; its example (0.3 g) 15 → 11 cut steps; the arch example 19,511 →
+/// 18,345 solves (0 cuts both); the static jointed slope 200 both; but the tunnel 1,060 →
+/// 1,085 solves (its static stages 19 both) and the shaking-table slope 10,544 → 10,579.
+/// Measured and rejected: the last branch wherever the contact was closed (no record):
+/// families 501 cut steps, 337,530 solves, but the tunnel 1,120, the shaking-table slope
+/// 10,971, the jointed slope 218; the step's majority alone (no record per contact):
+/// families 568 and 338,928, the tunnel 1,076, the example 22 cut steps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FirstChoice {
+    #[default]
+    Unknown,
+    Last,
+    Own,
+}
+
+impl FirstChoice {
+    /// Whether the last branch is taken when the predictions differ (`default`: the
+    /// contacts' majority in the last step, for a contact with no record of its own).
+    fn takes_last(self, default: bool) -> bool {
+        match self {
+            FirstChoice::Last => true,
+            FirstChoice::Own => false,
+            FirstChoice::Unknown => default,
+        }
+    }
+}
+
+/// A closed contact as committed at the end of a step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Committed {
+    pub law: LawId,
+    /// Its state under its law.
+    pub state: LawState,
+    /// The outward normal it had.
+    pub normal: Vec2,
+    /// The branch the step ended on.
+    pub branch: Branch,
+    /// Its record of the first iterate's predictions.
+    pub first_choice: FirstChoice,
 }
 
 /// (a + b_N · v, b_S · v) over a contact's rows.
@@ -436,7 +502,11 @@ pub struct BranchCounts {
 pub struct ContactSet {
     pub contacts: Vec<Contact>,
     /// Committed state of each closed contact under its law, with the outward normal it had.
-    committed: HashMap<ContactKey, (LawId, LawState, Vec2)>,
+    committed: HashMap<ContactKey, Committed>,
+    /// At the first iterate, a contact whose predictions differ and that has no record of
+    /// its own takes the last branch ([`FirstChoice`]): the last branch was right more
+    /// often than the law's own at the last committed step's contacts that had to choose.
+    prefer_last: bool,
     /// The committed states their laws keep while the contacts are open or out of sight
     /// ([`super::law::FrictionLaw::lasting`]).
     lasting: HashMap<ContactKey, (LawId, LawState)>,
@@ -559,6 +629,7 @@ impl Default for ContactSet {
         ContactSet {
             contacts: Vec::new(),
             committed: HashMap::default(),
+            prefer_last: false,
             lasting: HashMap::default(),
             seen: HashSet::default(),
             chosen_own: false,
@@ -899,7 +970,7 @@ impl ContactSet {
         let mut out = Vec::with_capacity(found.len());
         for mut ve in found {
             let key = (pa, ve.vertex, pb);
-            if let Some((_, _, n_old)) = self.committed.get(&key) {
+            if let Some(Committed { normal: n_old, .. }) = self.committed.get(&key) {
                 // Corner against corner the entrance edge is nearly a tie; keep the
                 // edge the contact had while it still holds the vertex, so that the
                 // normal does not flip between steps (which pumps energy in).
@@ -1111,9 +1182,9 @@ impl ContactSet {
         // first iterate (a contact of the last step keeps the state the last step found
         // for it)
         let touching = gap <= self.touch_tol && !self.seen.contains(&key);
-        let kept = match self.committed.get(&key) {
-            Some(&(l, h, _)) => Some((l, h)),
-            None => self.lasting.get(&key).copied(),
+        let (kept, last) = match self.committed.get(&key) {
+            Some(c) => (Some((c.law, c.state)), Some((c.branch, c.first_choice))),
+            None => (self.lasting.get(&key).copied(), None),
         };
         let history = match kept {
             Some((l, h)) if l == law => h,
@@ -1142,6 +1213,8 @@ impl ContactSet {
             tangent,
             joint,
             restitution: iface.restitution,
+            last,
+            first_own: Branch::Open,
         }
     }
 }
@@ -1229,9 +1302,9 @@ impl ContactSet {
         // (by the bond's elastic shear, or round-off) stays in contact with that face
         // ([`held_edge`]); only laws with bonds have such contacts.
         let mut held: HashMap<(usize, usize), Vec<(usize, Vec2)>> = HashMap::default();
-        for (k, (l, h, n)) in &self.committed {
-            if l.law().bond(h) == Some(true) {
-                held.entry((k.0, k.2)).or_default().push((k.1, *n));
+        for (k, c) in &self.committed {
+            if c.law.law().bond(&c.state) == Some(true) {
+                held.entry((k.0, k.2)).or_default().push((k.1, c.normal));
             }
         }
         for v in held.values_mut() {
@@ -1369,8 +1442,11 @@ impl ContactSet {
     }
 
     /// Choose each contact's branch at the iterate Δu = `du` (the law's
-    /// [`super::law::FrictionLaw::iteration_branch`]; `first`: the first iterate of the step). Returns
-    /// how many contacts changed branch (at the first iterate: how many are not open).
+    /// [`super::law::FrictionLaw::iteration_branch`]; `first`: the first iterate of the
+    /// step, where a contact closed at the end of the last step takes the branch it ended
+    /// on instead when that prediction was the right one the last time the two differed,
+    /// [`FirstChoice`]). Returns how many contacts changed branch (at the first iterate:
+    /// how many are not open).
     pub fn choose_branches(&mut self, du: &[f64], first: bool) -> usize {
         let ready =
             std::mem::take(&mut self.next_valid) && !first && same_bits(&self.evaluated, du);
@@ -1393,6 +1469,7 @@ impl ContactSet {
             self.unsymmetric = u0 + u1;
             return c0 + c1;
         }
+        let prefer_last = self.prefer_last;
         let ((c0, u0, o0), second) = self.split_pass(&mut [], &mut [], |cs, _, _| {
             let (mut changed, mut unsymmetric, mut own) = (0, 0, true);
             for c in cs {
@@ -1402,7 +1479,18 @@ impl ContactSet {
                     previous: (!first).then_some(c.branch),
                     touching: c.touching,
                 };
-                let b = law.iteration_branch(&c.params, &c.history, gn, gs, ctx);
+                let mut b = law.iteration_branch(&c.params, &c.history, gn, gs, ctx);
+                if first {
+                    // two predictions: the law's own branch at the first iterate, and the
+                    // branch the contact ended the last step on; where they differ, the one
+                    // that was right the last time they did ([`FirstChoice`])
+                    c.first_own = b;
+                    if let Some((last, record)) = c.last {
+                        if last != b && record.takes_last(prefer_last) {
+                            b = last;
+                        }
+                    }
+                }
                 own &= b == law.branch(&c.params, &c.history, gn, gs);
                 changed += usize::from(if first {
                     b != Branch::Open
@@ -1788,13 +1876,42 @@ impl ContactSet {
         // 0.23 ms a step in one loop)
         let (cs, committed) = (&self.contacts, &mut self.committed);
         let (seen, lasting, sums) = (&mut self.seen, &mut self.lasting, &mut self.dissipation);
-        self.threads.for_items(cs.len(), SPLIT_PRODUCT).join(
+        let ((last_right, own_right), ()) = self.threads.for_items(cs.len(), SPLIT_PRODUCT).join(
             || {
+                // each closed contact's state, with its record of the first iterate's
+                // predictions (and the step's count of which one was right where they
+                // differed)
+                let (mut last_right, mut own_right) = (0usize, 0usize);
                 for c in cs.iter() {
+                    let first_choice = match c.last {
+                        Some((last, record)) if last != c.first_own => {
+                            if c.branch == last {
+                                last_right += 1;
+                                FirstChoice::Last
+                            } else if c.branch == c.first_own {
+                                own_right += 1;
+                                FirstChoice::Own
+                            } else {
+                                record
+                            }
+                        }
+                        Some((_, record)) => record,
+                        None => FirstChoice::Unknown,
+                    };
                     if c.response.status != ContactStatus::Open {
-                        committed.insert(c.key, (c.law, c.history, c.normal));
+                        committed.insert(
+                            c.key,
+                            Committed {
+                                law: c.law,
+                                state: c.history,
+                                normal: c.normal,
+                                branch: c.branch,
+                                first_choice,
+                            },
+                        );
                     }
                 }
+                (last_right, own_right)
             },
             || {
                 for (c, d) in cs.iter().zip(&dissipated) {
@@ -1812,6 +1929,9 @@ impl ContactSet {
                 }
             },
         );
+        if last_right + own_right > 0 {
+            self.prefer_last = last_right > own_right;
+        }
         self.dissipated = dissipated;
     }
 
@@ -1823,7 +1943,7 @@ impl ContactSet {
         let intact = self
             .committed
             .values()
-            .filter(|(l, h, _)| l.law().bond(h) == Some(true))
+            .filter(|c| c.law.law().bond(&c.state) == Some(true))
             .count();
         let broken = self
             .lasting

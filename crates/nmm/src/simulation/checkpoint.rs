@@ -21,6 +21,9 @@
 //!   (`simulation/step.rs`, `TangentPattern`): the pattern, and so the ordering and the
 //!   round-off, of the next steps' factorisations follow from them. A checkpoint of an
 //!   earlier format is refused with the version that wrote it;
+//! - (format 8) each closed contact's last branch and its record of the first iterate's
+//!   predictions, and the set's default for contacts without one
+//!   ([`crate::contact::set::FirstChoice`]): the next step's first choice of branches;
 //! - the run's outputs so far: the length of history.csv in bytes, the .pvd frame lists,
 //!   and the run's counters for summary.json (format 6: six linear-solver counts, the
 //!   unsymmetric LU factorisations added).
@@ -30,15 +33,16 @@
 //! temporary name and renamed, so a run killed while writing leaves the previous one.
 
 use super::{Energy, Simulation};
+use crate::contact::law::Branch;
 use crate::contact::law::{LawId, LawState};
-use crate::contact::set::SavedContacts;
+use crate::contact::set::{Committed, FirstChoice, SavedContacts};
 use crate::model::{Model, Stage};
 use std::path::Path;
 use std::time::Duration;
 
 const MAGIC: &[u8; 8] = b"NMMCKPT\n";
 /// Bumped whenever the layout below changes.
-pub const FORMAT: u32 = 7;
+pub const FORMAT: u32 = 8;
 
 /// The program version a checkpoint must come from.
 pub fn program_version() -> String {
@@ -323,6 +327,37 @@ fn law_state(w: &mut W, h: &LawState) {
     h.0.iter().for_each(|x| w.u64(*x));
 }
 
+/// A branch as one number: its kind in the low byte, its two small integers (a sliding
+/// direction, a law's limit) in the next two.
+fn branch_code(b: Branch) -> usize {
+    let (kind, a, s) = match b {
+        Branch::Open => (0, 0, 0),
+        Branch::Stick => (1, 0, 0),
+        Branch::Slide(s) => (2, 0, s),
+        Branch::Limit(a, s) => (3, a, s),
+    };
+    kind | (usize::from(a) << 8) | (usize::from(s as u8) << 16)
+}
+
+/// The branch of [`branch_code`].
+fn read_branch(code: usize) -> Res<Branch> {
+    let (a, s) = (
+        ((code >> 8) & 0xff) as u8,
+        ((code >> 16) & 0xff) as u8 as i8,
+    );
+    let b = match (code & 0xff, code >> 24) {
+        (0, 0) => Branch::Open,
+        (1, 0) => Branch::Stick,
+        (2, 0) => Branch::Slide(s),
+        (3, 0) => Branch::Limit(a, s),
+        _ => return Err(format!("bad contact branch {code}")),
+    };
+    if branch_code(b) != code {
+        return Err(format!("bad contact branch {code}"));
+    }
+    Ok(b)
+}
+
 /// A law and its state written by [`law_state`], the law by its index in `laws`.
 fn read_law_state(r: &mut Rd, laws: &[LawId]) -> Res<(LawId, LawState)> {
     let i = r.us()?;
@@ -418,13 +453,20 @@ impl Simulation {
         w.us(laws.len());
         laws.iter().for_each(|l| w.s(l.name()));
         let index = |l: &LawId| laws.iter().position(|x| x == l).unwrap_or(0);
+        w.b(c.prefer_last);
         w.us(c.committed.len());
-        for (k, l, h, n) in &c.committed {
+        for (k, c) in &c.committed {
             [k.0, k.1, k.2].iter().for_each(|x| w.us(*x));
-            w.us(index(l));
-            law_state(w, h);
-            w.f(n[0]);
-            w.f(n[1]);
+            w.us(index(&c.law));
+            law_state(w, &c.state);
+            w.f(c.normal[0]);
+            w.f(c.normal[1]);
+            w.us(branch_code(c.branch));
+            w.us(match c.first_choice {
+                FirstChoice::Unknown => 0,
+                FirstChoice::Last => 1,
+                FirstChoice::Own => 2,
+            });
         }
         w.us(c.lasting.len());
         for (k, l, h) in &c.lasting {
@@ -574,12 +616,30 @@ impl Simulation {
             })
             .collect::<Res<Vec<_>>>()?;
         let words = 8 * LawState::WORDS;
-        let nc = r.len(40 + words)?;
+        let prefer_last = r.b()?;
+        let nc = r.len(56 + words)?;
         let mut committed = Vec::with_capacity(nc);
         for _ in 0..nc {
             let k = (r.us()?, r.us()?, r.us()?);
-            let (l, h) = read_law_state(r, &laws)?;
-            committed.push((k, l, h, [r.f()?, r.f()?]));
+            let (law, state) = read_law_state(r, &laws)?;
+            let normal = [r.f()?, r.f()?];
+            let branch = read_branch(r.us()?)?;
+            let first_choice = match r.us()? {
+                0 => FirstChoice::Unknown,
+                1 => FirstChoice::Last,
+                2 => FirstChoice::Own,
+                x => return Err(format!("bad record of a contact's predictions {x}")),
+            };
+            committed.push((
+                k,
+                Committed {
+                    law,
+                    state,
+                    normal,
+                    branch,
+                    first_choice,
+                },
+            ));
         }
         let nk = r.len(32 + words)?;
         let mut lasting = Vec::with_capacity(nk);
@@ -605,6 +665,7 @@ impl Simulation {
         self.contacts.restore(&SavedContacts {
             commits,
             committed,
+            prefer_last,
             lasting,
             seen,
         });
@@ -912,6 +973,25 @@ impl Checkpoint {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every branch a law can take is written as a number and read back as itself; a
+    /// number no branch writes is refused.
+    #[test]
+    fn branches_are_read_back_as_written() {
+        let mut all = vec![Branch::Open, Branch::Stick];
+        for s in [-1i8, 0, 1, i8::MIN, i8::MAX] {
+            all.push(Branch::Slide(s));
+            for a in [0u8, 1, 2, u8::MAX] {
+                all.push(Branch::Limit(a, s));
+            }
+        }
+        for b in all {
+            assert_eq!(read_branch(branch_code(b)), Ok(b), "{b:?}");
+        }
+        for bad in [4usize, 1 << 8, 1 | (1 << 16), 1 << 24, usize::MAX] {
+            assert!(read_branch(bad).is_err(), "{bad}");
+        }
+    }
 
     #[test]
     fn fnv_is_the_reference_hash() {

@@ -2,17 +2,20 @@
 //! (`simulation/checkpoint.rs`): everything else in the set is rebuilt by the next step's
 //! detection on the restored geometry.
 
-use super::{ContactKey, ContactSet};
+use super::{Committed, ContactKey, ContactSet};
 use crate::contact::law::{LawId, LawState};
-use crate::geometry::Vec2;
 
 /// The committed state of a contact set after a converged step.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct SavedContacts {
     /// Converged steps committed so far.
     pub commits: usize,
-    /// Committed law, state and outward normal of each closed contact, sorted by key.
-    pub committed: Vec<(ContactKey, LawId, LawState, Vec2)>,
+    /// Each closed contact as committed (law, state, outward normal, the branch it ended
+    /// on and its record of the first iterate's predictions), sorted by key.
+    pub committed: Vec<(ContactKey, Committed)>,
+    /// Whether a contact with no record of its own takes its last branch at the first
+    /// iterate where the predictions differ.
+    pub prefer_last: bool,
     /// The states kept while their contacts are open or out of sight (broken bonds), sorted
     /// by key.
     pub lasting: Vec<(ContactKey, LawId, LawState)>,
@@ -24,11 +27,8 @@ impl ContactSet {
     /// What the next step needs of this set (sorted, so that the same state saves the
     /// same bytes).
     pub fn saved(&self) -> SavedContacts {
-        let mut committed: Vec<(ContactKey, LawId, LawState, Vec2)> = self
-            .committed
-            .iter()
-            .map(|(k, (l, h, n))| (*k, *l, *h, *n))
-            .collect();
+        let mut committed: Vec<(ContactKey, Committed)> =
+            self.committed.iter().map(|(k, c)| (*k, *c)).collect();
         committed.sort_by_key(|c| c.0);
         let mut lasting: Vec<(ContactKey, LawId, LawState)> = self
             .lasting
@@ -41,6 +41,7 @@ impl ContactSet {
         SavedContacts {
             commits: self.commits,
             committed,
+            prefer_last: self.prefer_last,
             lasting,
             seen,
         }
@@ -50,11 +51,8 @@ impl ContactSet {
     /// the next detection).
     pub fn restore(&mut self, s: &SavedContacts) {
         self.commits = s.commits;
-        self.committed = s
-            .committed
-            .iter()
-            .map(|(k, l, h, n)| (*k, (*l, *h, *n)))
-            .collect();
+        self.committed = s.committed.iter().copied().collect();
+        self.prefer_last = s.prefer_last;
         self.lasting = s.lasting.iter().map(|(k, l, h)| (*k, (*l, *h))).collect();
         self.seen = s.seen.iter().copied().collect();
         self.contacts.clear();

@@ -518,11 +518,10 @@ pub struct ContactSet {
     unsymmetric: usize,
     /// The iterate of the latest true evaluation ([`ContactSet::add_forces`] with `own`),
     /// bit for bit, while each contact's `next` holds the choice of branches there (made
-    /// from the branches chosen then; cleared by any choice, commit or detection): a
-    /// choice at that iterate takes it instead of evaluating every contact again.
+    /// from the branches chosen then; emptied by any other evaluation, choice, commit or
+    /// detection: empty, nothing is held): a choice at that iterate takes it instead of
+    /// evaluating every contact again.
     evaluated: Vec<f64>,
-    /// `evaluated` and the contacts' `next` hold a choice.
-    next_valid: bool,
     /// The run's threads: the laws of the contacts are evaluated on them (local work), the
     /// forces scattered in contact order.
     pub threads: crate::parallel::Threads,
@@ -637,7 +636,6 @@ impl Default for ContactSet {
             threads: Default::default(),
             half: Vec::new(),
             evaluated: Vec::new(),
-            next_valid: false,
             dissipated: Vec::new(),
             touch_tol: 0.0,
             spacing: 0.0,
@@ -1245,7 +1243,7 @@ impl ContactSet {
         self.chosen_own = false;
         self.unsymmetric = 0;
         self.generation += 1;
-        self.next_valid = false;
+        self.evaluated.clear();
         let basis = disc.basis;
         let ne = basis.element_dofs();
         self.row_len = 2 * ne;
@@ -1448,8 +1446,8 @@ impl ContactSet {
     /// [`FirstChoice`]). Returns how many contacts changed branch (at the first iterate:
     /// how many are not open).
     pub fn choose_branches(&mut self, du: &[f64], first: bool) -> usize {
-        let ready =
-            std::mem::take(&mut self.next_valid) && !first && same_bits(&self.evaluated, du);
+        let ready = !first && !self.evaluated.is_empty() && same_bits(&self.evaluated, du);
+        self.evaluated.clear();
         if ready {
             // the latest true evaluation was at `du` and made this choice already
             let ((c0, u0, o0), second) = self.split_pass(&mut [], &mut [], |cs, _, _| {
@@ -1519,7 +1517,7 @@ impl ContactSet {
     /// Put every contact on the law's own branch at `du` (no iteration rule). Returns how
     /// many contacts changed branch.
     pub fn choose_own_branches(&mut self, du: &[f64]) -> usize {
-        self.next_valid = false;
+        self.evaluated.clear();
         let ((c0, u0), second) = self.split_pass(&mut [], &mut [], |cs, _, _| {
             let (mut changed, mut unsymmetric) = (0, 0);
             for c in cs {
@@ -1569,11 +1567,10 @@ impl ContactSet {
     ) -> (usize, f64) {
         let mags = magnitudes.is_some();
         let w = magnitudes.unwrap_or(&mut []);
+        self.evaluated.clear();
         if own {
-            self.evaluated.clear();
             self.evaluated.extend_from_slice(du);
         }
-        self.next_valid = own;
         let (a, b) = self.split_pass(r, w, |cs, r, w| {
             let (mut inconsistent, mut motion) = (0, 0.0f64);
             for c in cs {
@@ -1842,7 +1839,7 @@ impl ContactSet {
     /// Commit the converged increment: every contact's law response becomes its history.
     pub fn commit(&mut self, du: &[f64]) {
         self.commits += 1;
-        self.next_valid = false;
+        self.evaluated.clear();
         self.committed.clear();
         self.seen.clear();
         self.dissipation = StepDissipation::default();

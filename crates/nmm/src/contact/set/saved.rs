@@ -59,6 +59,6 @@ impl ContactSet {
         self.unsymmetric = 0;
         self.chosen_own = false;
         self.generation += 1;
-        self.next_valid = false;
+        self.evaluated.clear();
     }
 }

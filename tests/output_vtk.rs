@@ -630,7 +630,7 @@ fn bolts_frames_are_line_cells_with_their_forces() {
         assert_eq!(b.1, k.1.replace("blocks_", "bolts_"));
     }
     let hist = std::fs::read_to_string(out.join("history.csv")).unwrap();
-    assert!(hist.starts_with("step,time,b1.force,b1.elongation,iterations\n"));
+    assert!(hist.starts_with("step,time,b1.force,b1.elongation,iterations,solves,cuts\n"));
     let last: Vec<f64> = hist
         .lines()
         .last()

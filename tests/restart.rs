@@ -104,7 +104,11 @@ fn interrupted_and_resumed_runs_write_the_same_history() {
     let reference = std::fs::read(full.join("history.csv")).unwrap();
     let text = String::from_utf8(reference.clone()).unwrap();
     assert_eq!(text.lines().count(), 1 + SETTLE_STEPS + SHAKE_STEPS);
-    assert!(text.lines().next().unwrap().ends_with(",iterations,stage"));
+    assert!(text
+        .lines()
+        .next()
+        .unwrap()
+        .ends_with(",iterations,stage,solves,cuts"));
     // it slides: the contacts change state during the run
     let last: Vec<&str> = text.lines().last().unwrap().split(',').collect();
     assert!(last[2].parse::<f64>().unwrap() > 0.01, "slip {}", last[2]);
@@ -510,7 +514,7 @@ fn resumed_runs_with_excavations_write_the_same_history() {
     assert_eq!(
         rows[0].join(","),
         "step,time,crown.ux,crown.uy,crown.vx,crown.vy,bolt.force,bolt.elongation,\
-         east wall.ux,east wall.uy,east wall.vx,east wall.vy,iterations,stage"
+         east wall.ux,east wall.uy,east wall.vx,east wall.vy,iterations,stage,solves,cuts"
     );
     assert_eq!(rows.len(), 1 + 50);
     let at = |step: usize, col: usize| rows[step][col].parse::<f64>().unwrap();

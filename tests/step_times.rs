@@ -94,4 +94,36 @@ fn cut_steps_rejoin_the_step_grid() {
         "{t:?}"
     );
     assert_eq!(t.last().unwrap(), "5");
+    // each row's linear solves (its failed attempts' included) and cuts: a cut step's row
+    // counts the attempts that failed, and summary.json's `iterations` are those solves
+    let text = std::fs::read_to_string(dir.path().join("out/history.csv")).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    assert_eq!(header[header.len() - 3..], ["iterations", "solves", "cuts"]);
+    let rows: Vec<[usize; 3]> = text
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<usize> = l
+                .split(',')
+                .rev()
+                .take(3)
+                .map(|x| x.parse().unwrap())
+                .collect();
+            [f[2], f[1], f[0]]
+        })
+        .collect();
+    let cut: Vec<&[usize; 3]> = rows.iter().filter(|r| r[2] > 0).collect();
+    assert!(!cut.is_empty(), "no row with a cut: {rows:?}");
+    assert!(rows.iter().all(|r| r[1] >= r[0]), "{rows:?}");
+    assert!(cut.iter().all(|r| r[1] > r[0]), "{cut:?}");
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("out/summary.json")).unwrap(),
+    )
+    .unwrap();
+    let solves: Vec<usize> = rows.iter().map(|r| r[1]).collect();
+    assert_eq!(summary["iterations"]["total"], solves.iter().sum::<usize>());
+    assert_eq!(summary["iterations"]["max"], *solves.iter().max().unwrap());
+    let cuts: usize = rows.iter().map(|r| r[2]).sum();
+    assert_eq!(summary["cuts"]["total"], cuts);
+    assert_eq!(summary["cuts"]["steps_cut"], cut.len());
 }

@@ -795,6 +795,11 @@ impl Model {
         if !self.model.stages.is_empty() {
             cols.push("stage".into());
         }
+        cols.extend(
+            nmm::simulation::HISTORY_COUNTS
+                .iter()
+                .map(|c| c.to_string()),
+        );
         cols
     }
 

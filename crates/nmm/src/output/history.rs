@@ -5,12 +5,13 @@
 //!
 //! # Layout
 //! ```text
-//! step,time,<column 1>,...,<column n>,iterations
+//! step,time,<column 1>,...,<column n>,iterations[,<text>][,<count 1>,...]
 //! 0,0,0,...,0,0
 //! 1,0.001,1.2345678901234567e-7,...,3
 //! ```
 //! The header is quoted by the `csv` crate only when a name needs it (a comma, a quote, a
-//! line break). `step` and `iterations` are unsigned integers.
+//! line break). `step`, `iterations` and the trailing counts (the simulation's `solves`
+//! and `cuts`, [`HistoryWriter::create_with_counts`]) are unsigned integers.
 //!
 //! # Numbers
 //! Every `f64` is written with the *shortest* decimal string that parses back to the same
@@ -51,6 +52,8 @@ pub struct HistoryWriter {
     field: String,
     /// A text column after `iterations` (e.g. `stage`), if any.
     text_column: bool,
+    /// Integer columns after those (their number).
+    n_counts: usize,
 }
 
 impl HistoryWriter {
@@ -69,6 +72,17 @@ impl HistoryWriter {
         columns: &[String],
         text: Option<&str>,
     ) -> io::Result<Self> {
+        Self::create_with_counts(path, columns, text, &[])
+    }
+
+    /// As [`Self::create_with_text`], with integer columns `counts` last (each row then
+    /// gives their values to [`Self::write_row_counts`]).
+    pub fn create_with_counts(
+        path: &Path,
+        columns: &[String],
+        text: Option<&str>,
+        counts: &[&str],
+    ) -> io::Result<Self> {
         for (i, c) in columns.iter().enumerate() {
             if c == "step" || c == "time" || c == "iterations" {
                 return Err(invalid(format!(
@@ -77,6 +91,16 @@ impl HistoryWriter {
             }
             if columns[..i].contains(c) {
                 return Err(invalid(format!("history column `{c}` appears twice")));
+            }
+            if counts.contains(&c.as_str()) || text == Some(c.as_str()) {
+                return Err(invalid(format!(
+                    "history column name `{c}` is reserved ({})",
+                    text.iter()
+                        .chain(counts)
+                        .copied()
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )));
             }
         }
         let file = File::create(path)?;
@@ -89,13 +113,25 @@ impl HistoryWriter {
         names.extend(columns.iter().map(String::as_str));
         names.push("iterations");
         names.extend(text);
+        names.extend(counts);
         writer.write_record(&names)?;
         writer.flush()?;
-        Ok(Self::over(writer, columns.len(), text.is_some()))
+        Ok(Self::over(
+            writer,
+            columns.len(),
+            text.is_some(),
+            counts.len(),
+        ))
     }
 
-    /// A writer of rows of `n_values` monitor values (and a text column) onto `writer`.
-    fn over(writer: csv::Writer<File>, n_values: usize, text_column: bool) -> Self {
+    /// A writer of rows of `n_values` monitor values (a text column, `n_counts` integer
+    /// columns) onto `writer`.
+    fn over(
+        writer: csv::Writer<File>,
+        n_values: usize,
+        text_column: bool,
+        n_counts: usize,
+    ) -> Self {
         Self {
             writer,
             n_values,
@@ -105,13 +141,21 @@ impl HistoryWriter {
             non_finite: 0,
             field: String::with_capacity(32),
             text_column,
+            n_counts,
         }
     }
 
-    /// Reopens a history written by [`Self::create_with_text`] with the same columns to
-    /// append rows after its first `len` bytes (a resumed run: later rows are dropped).
-    /// Fails if the file is shorter than `len`.
-    pub fn append_after(path: &Path, columns: &[String], text: bool, len: u64) -> io::Result<Self> {
+    /// Reopens a history written by [`Self::create_with_counts`] with the same columns (a
+    /// text column or not, `n_counts` integer columns) to append rows after its first `len`
+    /// bytes (a resumed run: later rows are dropped). Fails if the file is shorter than
+    /// `len`.
+    pub fn append_after(
+        path: &Path,
+        columns: &[String],
+        text: bool,
+        n_counts: usize,
+        len: u64,
+    ) -> io::Result<Self> {
         let file = std::fs::OpenOptions::new().write(true).open(path)?;
         let have = file.metadata()?.len();
         if have < len {
@@ -126,7 +170,7 @@ impl HistoryWriter {
             .has_headers(false)
             .terminator(csv::Terminator::Any(b'\n'))
             .from_writer(file);
-        Ok(Self::over(writer, columns.len(), text))
+        Ok(Self::over(writer, columns.len(), text, n_counts))
     }
 
     /// Bytes written to the file so far (after a flush).
@@ -167,6 +211,26 @@ impl HistoryWriter {
         iterations: usize,
         text: Option<&str>,
     ) -> io::Result<()> {
+        self.write_row_counts(step, time, values, iterations, text, &[])
+    }
+
+    /// As [`Self::write_row_text`], with the values of the integer columns (one each).
+    pub fn write_row_counts(
+        &mut self,
+        step: usize,
+        time: f64,
+        values: &[f64],
+        iterations: usize,
+        text: Option<&str>,
+        counts: &[usize],
+    ) -> io::Result<()> {
+        if counts.len() != self.n_counts {
+            return Err(invalid(format!(
+                "history row has {} counts, the header has {}",
+                counts.len(),
+                self.n_counts
+            )));
+        }
         if text.is_some() != self.text_column {
             return Err(invalid(
                 "history row: a text value exactly when the header has a text column".into(),
@@ -195,6 +259,11 @@ impl HistoryWriter {
         self.writer.write_field(&self.field)?;
         if let Some(t) = text {
             self.writer.write_field(t)?;
+        }
+        for c in counts {
+            self.field.clear();
+            self.field.push_str(&c.to_string());
+            self.writer.write_field(&self.field)?;
         }
         self.writer.write_record(None::<&[u8]>)?;
         self.rows += 1;

@@ -26,7 +26,9 @@
 //!   ([`crate::contact::set::FirstChoice`]): the next step's first choice of branches;
 //! - the run's outputs so far: the length of history.csv in bytes, the .pvd frame lists,
 //!   and the run's counters for summary.json (format 6: six linear-solver counts, the
-//!   unsymmetric LU factorisations added).
+//!   unsymmetric LU factorisations added; format 9: the same layout, but history.csv's
+//!   rows end with the step's `solves` and `cuts`, so that a run written before cannot be
+//!   continued onto its history).
 //!
 //! Numbers are stored as their bits (little-endian `u64`), so nothing is lost to decimal.
 //! The file ends with an FNV-1a checksum of everything before it; it is written to a
@@ -42,7 +44,7 @@ use std::time::Duration;
 
 const MAGIC: &[u8; 8] = b"NMMCKPT\n";
 /// Bumped whenever the layout below changes.
-pub const FORMAT: u32 = 8;
+pub const FORMAT: u32 = 9;
 
 /// The program version a checkpoint must come from.
 pub fn program_version() -> String {

@@ -39,7 +39,9 @@ pub use run::{
     run_observed, run_simulation, with_friction, RunError, RunObserver, RunOptions, RunStatus,
     RunSummary, Silent, Start,
 };
-pub use writers::{blocks_grid, contacts_grid, history_columns, monitor_values, write_block_table};
+pub use writers::{
+    blocks_grid, contacts_grid, history_columns, monitor_values, write_block_table, HISTORY_COUNTS,
+};
 
 mod step;
 

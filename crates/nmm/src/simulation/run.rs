@@ -14,7 +14,7 @@
 //! failed. The files and fields are documented in `docs/outputs.md`.
 
 use super::checkpoint::{Checkpoint, SavedOptions, SavedOutputs};
-use super::writers::{history_columns, monitor_values, write_block_table, Frames};
+use super::writers::{history_columns, monitor_values, write_block_table, Frames, HISTORY_COUNTS};
 use super::{Simulation, StepError, Timings};
 use crate::contact::friction::ContactStatus;
 use crate::model::Model;
@@ -558,10 +558,18 @@ fn step_to_end(
         _ => None,
     };
     let mut hist = match resumed {
-        Some(c) => HistoryWriter::append_after(&hist_path, &columns, staged, c.outputs.history_len)
-            .map_err(|e| io(&hist_path, e))?,
-        None => HistoryWriter::create_with_text(&hist_path, &columns, stage_column)
-            .map_err(|e| io(&hist_path, e))?,
+        Some(c) => HistoryWriter::append_after(
+            &hist_path,
+            &columns,
+            staged,
+            HISTORY_COUNTS.len(),
+            c.outputs.history_len,
+        )
+        .map_err(|e| io(&hist_path, e))?,
+        None => {
+            HistoryWriter::create_with_counts(&hist_path, &columns, stage_column, &HISTORY_COUNTS)
+                .map_err(|e| io(&hist_path, e))?
+        }
     };
     let mut last_written = sim.step;
     let mut frames = match (opts.vtk, resumed) {
@@ -658,12 +666,13 @@ fn step_to_end(
                 .count(),
         );
         let t_out = Instant::now();
-        hist.write_row_text(
+        hist.write_row_counts(
             sim.step,
             sim.time,
             &monitor_values(sim),
             rep.iterations,
             sim.stage_name(),
+            &[rep.solves, rep.cuts],
         )
         .map_err(|e| io(&hist_path, e))?;
         let interrupted = opts

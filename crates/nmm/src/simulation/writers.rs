@@ -8,6 +8,11 @@ use crate::model::{Model, MonitorKind};
 use crate::output::vtk::{write_vtu, Cell, DataArray, FieldStrings, Grid, PvdWriter};
 use std::path::{Path, PathBuf};
 
+/// The integer columns history.csv ends with (after `iterations` and, with stages,
+/// `stage`): each step's linear solves, its failed attempts' included (the figures of
+/// summary.json's `iterations`), and how many times Δt was halved before it converged.
+pub const HISTORY_COUNTS: [&str; 2] = ["solves", "cuts"];
+
 /// History columns after `step,time` and before `iterations`.
 pub fn history_columns(model: &Model) -> Vec<String> {
     let mut cols = Vec::new();

@@ -182,3 +182,38 @@ fn no_monitor_columns_is_valid() {
         "step,time,iterations\n0,0,0\n"
     );
 }
+
+#[test]
+fn a_text_column_and_counts_come_after_iterations() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("history.csv");
+    let counts = ["solves", "cuts"];
+    let mut w =
+        HistoryWriter::create_with_counts(&path, &cols(&["a"]), Some("stage"), &counts).unwrap();
+    w.write_row_counts(1, 0.5, &[2.5], 4, Some("settle"), &[29, 1])
+        .unwrap();
+    // a row without its counts, or without its text, is refused and nothing written
+    for (text, c) in [(Some("settle"), &[4][..]), (None, &[4, 0][..])] {
+        let e = w.write_row_counts(2, 1.0, &[2.5], 4, text, c).unwrap_err();
+        assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput);
+    }
+    assert!(w.write_row(2, 1.0, &[2.5], 4).is_err());
+    assert_eq!(w.rows(), 1);
+    drop(w);
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        "step,time,a,iterations,stage,solves,cuts\n1,0.5,2.5,4,settle,29,1\n"
+    );
+    // a monitor column may not take a trailing column's name
+    for bad in ["solves", "stage"] {
+        let e = HistoryWriter::create_with_counts(
+            &dir.path().join("h2.csv"),
+            &cols(&[bad]),
+            Some("stage"),
+            &counts,
+        )
+        .err()
+        .unwrap();
+        assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput, "{bad}");
+    }
+}

@@ -62,21 +62,12 @@ impl HistoryWriter {
     /// Fails if the file cannot be created, or if a column is named `step`, `time` or
     /// `iterations` or appears twice (the header would then be ambiguous).
     pub fn create(path: &Path, columns: &[String]) -> io::Result<Self> {
-        Self::create_with_text(path, columns, None)
+        Self::create_with_counts(path, columns, None, &[])
     }
 
-    /// As [`Self::create`], with a text column `text` after `iterations` (each row then
-    /// gives its value to [`Self::write_row_text`]).
-    pub fn create_with_text(
-        path: &Path,
-        columns: &[String],
-        text: Option<&str>,
-    ) -> io::Result<Self> {
-        Self::create_with_counts(path, columns, text, &[])
-    }
-
-    /// As [`Self::create_with_text`], with integer columns `counts` last (each row then
-    /// gives their values to [`Self::write_row_counts`]).
+    /// As [`Self::create`], with a text column `text` after `iterations` and integer
+    /// columns `counts` last (each row then gives their values to
+    /// [`Self::write_row_counts`]).
     pub fn create_with_counts(
         path: &Path,
         columns: &[String],
@@ -198,23 +189,11 @@ impl HistoryWriter {
         values: &[f64],
         iterations: usize,
     ) -> io::Result<()> {
-        self.write_row_text(step, time, values, iterations, None)
+        self.write_row_counts(step, time, values, iterations, None, &[])
     }
 
     /// As [`Self::write_row`], with the value of the text column (required when the
-    /// history has one, refused otherwise).
-    pub fn write_row_text(
-        &mut self,
-        step: usize,
-        time: f64,
-        values: &[f64],
-        iterations: usize,
-        text: Option<&str>,
-    ) -> io::Result<()> {
-        self.write_row_counts(step, time, values, iterations, text, &[])
-    }
-
-    /// As [`Self::write_row_text`], with the values of the integer columns (one each).
+    /// history has one, refused otherwise) and those of the integer columns (one each).
     pub fn write_row_counts(
         &mut self,
         step: usize,

@@ -127,3 +127,40 @@ fn cut_steps_rejoin_the_step_grid() {
     assert_eq!(summary["cuts"]["total"], cuts);
     assert_eq!(summary["cuts"]["steps_cut"], cut.len());
 }
+
+#[test]
+fn times_inside_cut_steps_are_short_decimals_too() {
+    let dir = tempfile::tempdir().unwrap();
+    // a block dropped 1 m onto a fixed one, Δt = 2 ms, at most 2 Newton iterations: its
+    // impact steps (from step 467, t ≈ 0.93 s) are cut in halves and quarters, whose ends
+    // t₀ + kΔt + mΔt/2^j a running sum writes as 0.9384999999999999
+    let model = "[analysis]\ndt = 0.002\nsteps = 480\nmax_iterations = 2\ngravity = [0.0, -9.81]\n\
+                 [cover]\nsize = 0.5\n[[material]]\nname = \"m\"\ndensity = 2500.0\nyoung = 1e9\npoisson = 0.2\n\
+                 [[block]]\nname = \"base\"\nmaterial = \"m\"\nvertices = [[-1.0, -1.0], [2.0, -1.0], [2.0, 0.0], [-1.0, 0.0]]\nfixed = true\n\
+                 [[block]]\nname = \"b\"\nmaterial = \"m\"\nvertices = [[0.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]]\n\
+                 [[interface]]\nfriction_angle = 30.0\nnormal_penalty = 1.0e10\nshear_penalty = 1.0e10\n";
+    run(model, dir.path());
+    let t = times(dir.path());
+    let text = std::fs::read_to_string(dir.path().join("out/history.csv")).unwrap();
+    let cut = text.lines().skip(1).filter(|l| !l.ends_with(",0")).count();
+    assert!(cut > 0, "no step was cut");
+    assert!(
+        t.len() > 480,
+        "no inner point of a cut step: {} rows",
+        t.len()
+    );
+    let inner: Vec<&String> = t
+        .iter()
+        .filter(|s| {
+            let x: f64 = s.parse().unwrap();
+            ((x / 0.002) - (x / 0.002).round()).abs() > 1e-6
+        })
+        .collect();
+    assert!(!inner.is_empty());
+    for s in &inner {
+        // at most three halvings of 2 ms here: 0.00025 s, five decimals
+        let decimals = s.split_once('.').map_or(0, |(_, f)| f.len());
+        assert!(decimals <= 5, "{s} in {inner:?}");
+    }
+    assert_eq!(t.last().unwrap(), "0.96");
+}

@@ -196,6 +196,39 @@ pub fn grid_time(t0: f64, k: u64, dt: f64) -> f64 {
     exact().unwrap_or(t0 + k as f64 * dt)
 }
 
+/// The time at a point inside step k + 1 of the grid that cut steps reach: t₀ + kΔt plus
+/// `partial`, the time the halves of Δt covered so far. The cuts halve what remains, so
+/// `partial` is m·Δt/2^j; the result is then [`grid_time`]`(t₀, 2^j k + m, Δt/2^j)`, the
+/// double nearest the decimal when t₀ and Δt are short decimals (a half of a short decimal
+/// is one; halving a double is exact): 1.481, not 1.4809999999999999, at Δt = 2 ms (else
+/// one rounding of that product, as grid_time). A `partial` that is no such fraction (m
+/// within 10⁻⁶ of an integer, j ≤ 30), or a result more than a few roundings from the sum,
+/// gives grid_time + partial.
+pub fn cut_time(t0: f64, k: u64, dt: f64, partial: f64) -> f64 {
+    let summed = grid_time(t0, k, dt) + partial;
+    if partial == 0.0 || dt.is_nan() || dt <= 0.0 {
+        return summed;
+    }
+    let f = partial / dt;
+    for j in 1..=30u32 {
+        let scaled = f * f64::from(1u32 << j);
+        let m = scaled.round();
+        if (scaled - m).abs() <= 1e-6 {
+            let Some(steps) = k
+                .checked_mul(1u64 << j)
+                .and_then(|s| s.checked_add(m as u64))
+            else {
+                return summed;
+            };
+            let t = grid_time(t0, steps, dt / f64::from(1u32 << j));
+            // (the same point: a few roundings apart at most)
+            let near = (t - summed).abs() <= 64.0 * f64::EPSILON * summed.abs().max(dt);
+            return if near { t } else { summed };
+        }
+    }
+    summed
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -335,6 +368,34 @@ mod tests {
         let d = log_decrement(o, 0.05);
         assert!((d / exact_log_decrement(0.05) - 1.0).abs() < 0.01, "{d}");
         assert!(d > exact_log_decrement(0.05));
+    }
+
+    #[test]
+    fn times_inside_a_cut_step_are_the_nearest_doubles_to_the_decimals() {
+        // Δt = 2 ms cut in half at step 741, then the second half cut again
+        let dt = 0.002;
+        let t = grid_time(0.0, 740, dt);
+        assert_eq!(t + 0.001, 1.4809999999999999);
+        assert_eq!(cut_time(0.0, 740, dt, 0.001), 1.481);
+        let quarter = (dt - 0.001) / 2.0;
+        assert_eq!(cut_time(0.0, 740, dt, 0.001 + quarter), 1.4815);
+        let eighth = (dt - 0.001 - quarter) / 2.0;
+        assert_eq!(cut_time(0.0, 740, dt, 0.001 + quarter + eighth), 1.48175);
+        // on the grid: grid_time itself
+        assert_eq!(cut_time(0.0, 741, dt, 0.0), grid_time(0.0, 741, dt));
+        assert_eq!(cut_time(2.5, 7, 0.01, 0.005), 2.575);
+        // binary fractions stay as they were
+        assert_eq!(cut_time(0.0, 0, 1.0, 0.25), 0.25);
+        // a Δt that is no short decimal: t₀ + 7 Δt/2 rounded once, as grid_time does
+        let dt = 1.0 / 3.0;
+        let t = cut_time(0.0, 3, dt, dt / 2.0);
+        assert_eq!(t, 7.0 * (dt / 2.0));
+        assert!((t - (grid_time(0.0, 3, dt) + dt / 2.0)).abs() < 1e-15);
+        // a partial that is no halving of Δt: the sum
+        assert_eq!(
+            cut_time(0.0, 740, 0.002, 0.0007),
+            grid_time(0.0, 740, 0.002) + 0.0007
+        );
     }
 
     #[test]

@@ -620,7 +620,7 @@ impl Simulation {
                 Err(Failure::OutOfMemory(what)) => {
                     return Err(StepError::OutOfMemory {
                         step: self.step + 1,
-                        time: self.time,
+                        time: self.output_time(),
                         what,
                     })
                 }
@@ -657,7 +657,7 @@ impl Simulation {
         }
         Err(StepError::NotConverged {
             step: self.step + 1,
-            time: self.time,
+            time: self.output_time(),
             cuts: self.model.analysis.max_step_cuts,
             residual: last.0,
             detail: last.1,

@@ -514,7 +514,7 @@ pub fn run_simulation(
         "balance_error_relative": e.balance_error_relative(),
     }));
     summary.steps = sim.step;
-    summary.time = sim.time;
+    summary.time = sim.output_time();
     summary.stage = sim.stage_name().map(str::to_string);
     summary.timings = sim.timings;
     summary.status = match &result {
@@ -668,7 +668,7 @@ fn step_to_end(
         let t_out = Instant::now();
         hist.write_row_counts(
             sim.step,
-            sim.time,
+            sim.output_time(),
             &monitor_values(sim),
             rep.iterations,
             sim.stage_name(),
@@ -742,7 +742,7 @@ fn step_to_end(
             checkpoints.write(sim, &saved, stage_end)?;
         }
         summary.output_time += t_out.elapsed();
-        progress.step_done(sim.full_steps_done(), sim.time);
+        progress.step_done(sim.full_steps_done(), sim.output_time());
         progress.counts(solves_total, cuts_total, summary.active_set_changes);
         progress.linear(&summary.linear);
         if interrupted {

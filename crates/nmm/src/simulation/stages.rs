@@ -128,6 +128,17 @@ impl Simulation {
         self.linear.step = None;
     }
 
+    /// The time the outputs write for the clock: the same point, but inside a cut step the
+    /// double nearest its decimal ([`time::cut_time`]: 1.481, not 1.4809999999999999). The
+    /// clock itself ([`Simulation::time`]) keeps the sum the loads were evaluated at (a few
+    /// roundings apart at most), so that the numerics of a cut step are those they were.
+    pub fn output_time(&self) -> f64 {
+        match self.partial {
+            0.0 => self.time,
+            p => time::cut_time(self.time_origin, self.full_steps, self.model.analysis.dt, p),
+        }
+    }
+
     /// The clock after a committed step of `dt`: a step that covered the rest of its
     /// interval ends on the grid, t = t₀ + kΔt; a cut one ends at t₀ + kΔt + (time covered).
     pub(super) fn advance_clock(&mut self, dt: f64) {

@@ -279,7 +279,7 @@ impl Frames {
                 &mut self.contacts
             };
             pvd.add_named(
-                sim.time,
+                sim.output_time(),
                 &format!("vtk/{name}"),
                 sim.stage_name().unwrap_or(""),
             )
@@ -290,7 +290,7 @@ impl Frames {
             let path = self.dir.join(&name);
             write_vtu(&path, &super::bolts_grid(sim)).map_err(|e| io(&path, e))?;
             pvd.add_named(
-                sim.time,
+                sim.output_time(),
                 &format!("vtk/{name}"),
                 sim.stage_name().unwrap_or(""),
             )

@@ -26,3 +26,10 @@ pub mod simulation;
 pub mod solver;
 pub mod time;
 pub mod verify;
+
+/// Whether `a` and `b` hold the same values bit for bit (a changed value, even −0.0 for 0.0
+/// or a NaN for itself, counts as a change): the test of "the same point" and "the same
+/// matrix" where results must not depend on what a comparison of numbers would forgive.
+pub(crate) fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}

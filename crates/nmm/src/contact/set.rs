@@ -69,6 +69,7 @@ use crate::cover::basis::{ELEMENT_DOFS, MAX_ELEMENT_DOFS, NO_DOF};
 use crate::cover::{barycentric, Discretisation};
 use crate::geometry::{cross, dot, norm, sub, Aabb, Vec2};
 use crate::model::Model;
+use crate::same_bits;
 /// The contact set's maps by contact (looked up for every contact at every step; SipHash,
 /// the standard library's default, was 1% of the arch example's run). Random per process,
 /// like the default: nothing may depend on their order.
@@ -218,11 +219,6 @@ pub struct Contact {
     pub first_own: Branch,
     /// The interface's restitution, if it has one (its dashpot is in `params`).
     pub restitution: Option<f64>,
-}
-
-/// Whether `a` and `b` hold the same values, bit for bit.
-fn same_bits(a: &[f64], b: &[f64]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 /// Which prediction of a contact's branch at the first iterate of a step was right the last

@@ -360,6 +360,25 @@ fn read_branch(code: usize) -> Res<Branch> {
     Ok(b)
 }
 
+/// A contact's record of its first-iterate predictions ([`FirstChoice`]) as a number.
+fn first_choice_code(c: FirstChoice) -> usize {
+    match c {
+        FirstChoice::Unknown => 0,
+        FirstChoice::Last => 1,
+        FirstChoice::Own => 2,
+    }
+}
+
+/// The record of [`first_choice_code`].
+fn read_first_choice(code: usize) -> Res<FirstChoice> {
+    match code {
+        0 => Ok(FirstChoice::Unknown),
+        1 => Ok(FirstChoice::Last),
+        2 => Ok(FirstChoice::Own),
+        x => Err(format!("bad record of a contact's predictions {x}")),
+    }
+}
+
 /// A law and its state written by [`law_state`], the law by its index in `laws`.
 fn read_law_state(r: &mut Rd, laws: &[LawId]) -> Res<(LawId, LawState)> {
     let i = r.us()?;
@@ -464,11 +483,7 @@ impl Simulation {
             w.f(c.normal[0]);
             w.f(c.normal[1]);
             w.us(branch_code(c.branch));
-            w.us(match c.first_choice {
-                FirstChoice::Unknown => 0,
-                FirstChoice::Last => 1,
-                FirstChoice::Own => 2,
-            });
+            w.us(first_choice_code(c.first_choice));
         }
         w.us(c.lasting.len());
         for (k, l, h) in &c.lasting {
@@ -626,12 +641,7 @@ impl Simulation {
             let (law, state) = read_law_state(r, &laws)?;
             let normal = [r.f()?, r.f()?];
             let branch = read_branch(r.us()?)?;
-            let first_choice = match r.us()? {
-                0 => FirstChoice::Unknown,
-                1 => FirstChoice::Last,
-                2 => FirstChoice::Own,
-                x => return Err(format!("bad record of a contact's predictions {x}")),
-            };
+            let first_choice = read_first_choice(r.us()?)?;
             committed.push((
                 k,
                 Committed {
@@ -992,6 +1002,17 @@ mod tests {
         }
         for bad in [4usize, 1 << 8, 1 | (1 << 16), 1 << 24, usize::MAX] {
             assert!(read_branch(bad).is_err(), "{bad}");
+        }
+    }
+
+    /// So is every record of a contact's first-iterate predictions.
+    #[test]
+    fn first_choices_are_read_back_as_written() {
+        for c in [FirstChoice::Unknown, FirstChoice::Last, FirstChoice::Own] {
+            assert_eq!(read_first_choice(first_choice_code(c)), Ok(c), "{c:?}");
+        }
+        for bad in [3usize, usize::MAX] {
+            assert!(read_first_choice(bad).is_err(), "{bad}");
         }
     }
 

@@ -94,6 +94,7 @@ use super::dot;
 use super::linear::SolveError;
 use super::sparse::{SparseMatrix, SparsePattern};
 use super::supernodal::{FactorPlan, FactorWork, Schedule};
+use crate::same_bits;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::{matmul, triangular_solve};
 use faer::reborrow::{Reborrow, ReborrowMut};
@@ -793,12 +794,6 @@ struct Placing<'a> {
     columns: &'a [usize],
     /// The supernodes to place.
     redo: &'a [bool],
-}
-
-/// Whether `a` and `b` hold the same bits (a changed value, even −0.0 for 0.0 or a NaN for
-/// itself, counts as a change).
-fn same_bits(a: &[f64], b: &[f64]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 /// A's entries of the lower triangle of P A Pᵀ placed in the factor's `values` (at

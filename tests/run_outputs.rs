@@ -145,6 +145,12 @@ fn a_finished_run_writes_its_summary_block_table_and_frames() {
         .next()
         .unwrap()
         .ends_with(",iterations,solves,cuts"));
+    // the header the library (and Python's `Model.history_columns`) says a run writes
+    let model = nmm::model::parse_model(DROP, dir.path()).unwrap();
+    assert_eq!(
+        hist.lines().next().unwrap(),
+        nmm::simulation::history_header(&model).join(",")
+    );
     let last3 =
         |l: &str| -> Vec<u64> { l.rsplit(',').take(3).map(|x| x.parse().unwrap()).collect() };
     assert!(hist

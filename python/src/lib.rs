@@ -789,18 +789,7 @@ impl Model {
     /// History columns, as history.csv has them.
     #[getter]
     fn history_columns(&self) -> Vec<String> {
-        let mut cols = vec!["step".to_string(), "time".to_string()];
-        cols.extend(nmm::simulation::history_columns(&self.model));
-        cols.push("iterations".into());
-        if !self.model.stages.is_empty() {
-            cols.push("stage".into());
-        }
-        cols.extend(
-            nmm::simulation::HISTORY_COUNTS
-                .iter()
-                .map(|c| c.to_string()),
-        );
-        cols
+        nmm::simulation::history_header(&self.model)
     }
 
     /// Monitor columns (those between `time` and `iterations`).

@@ -192,6 +192,15 @@ impl HistoryWriter {
         self.write_row_counts(step, time, values, iterations, None, &[])
     }
 
+    /// An unsigned integer field (through the reused `field` buffer: no allocation).
+    fn write_count(&mut self, x: usize) -> io::Result<()> {
+        use std::fmt::Write;
+        self.field.clear();
+        write!(self.field, "{x}").expect("writing to a String");
+        self.writer.write_field(&self.field)?;
+        Ok(())
+    }
+
     /// As [`Self::write_row`], with the value of the text column (required when the
     /// history has one, refused otherwise) and those of the integer columns (one each).
     pub fn write_row_counts(
@@ -222,9 +231,7 @@ impl HistoryWriter {
                 self.n_values
             )));
         }
-        self.field.clear();
-        self.field.push_str(&step.to_string());
-        self.writer.write_field(&self.field)?;
+        self.write_count(step)?;
         for &v in std::iter::once(&time).chain(values) {
             self.field.clear();
             if !v.is_finite() {
@@ -233,16 +240,12 @@ impl HistoryWriter {
             format_f64(v, &mut self.field);
             self.writer.write_field(&self.field)?;
         }
-        self.field.clear();
-        self.field.push_str(&iterations.to_string());
-        self.writer.write_field(&self.field)?;
+        self.write_count(iterations)?;
         if let Some(t) = text {
             self.writer.write_field(t)?;
         }
-        for c in counts {
-            self.field.clear();
-            self.field.push_str(&c.to_string());
-            self.writer.write_field(&self.field)?;
+        for &c in counts {
+            self.write_count(c)?;
         }
         self.writer.write_record(None::<&[u8]>)?;
         self.rows += 1;

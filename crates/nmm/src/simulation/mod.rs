@@ -40,7 +40,8 @@ pub use run::{
     RunSummary, Silent, Start,
 };
 pub use writers::{
-    blocks_grid, contacts_grid, history_columns, monitor_values, write_block_table, HISTORY_COUNTS,
+    blocks_grid, contacts_grid, history_columns, history_header, monitor_values, write_block_table,
+    HISTORY_COUNTS,
 };
 
 mod step;

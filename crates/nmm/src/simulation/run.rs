@@ -14,7 +14,9 @@
 //! failed. The files and fields are documented in `docs/outputs.md`.
 
 use super::checkpoint::{Checkpoint, SavedOptions, SavedOutputs};
-use super::writers::{history_columns, monitor_values, write_block_table, Frames, HISTORY_COUNTS};
+use super::writers::{
+    history_columns, monitor_values, write_block_table, Frames, HISTORY_COUNTS, STAGE_COLUMN,
+};
 use super::{Simulation, StepError, Timings};
 use crate::contact::friction::ContactStatus;
 use crate::model::Model;
@@ -552,7 +554,7 @@ fn step_to_end(
     let hist_path = out.join("history.csv");
     let columns = history_columns(&sim.model);
     let staged = !sim.model.stages.is_empty();
-    let stage_column = staged.then_some("stage");
+    let stage_column = staged.then_some(STAGE_COLUMN);
     let resumed = match &opts.start {
         Start::Resume(c) => Some(c.as_ref()),
         _ => None,

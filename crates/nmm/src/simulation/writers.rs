@@ -13,6 +13,22 @@ use std::path::{Path, PathBuf};
 /// summary.json's `iterations`), and how many times Δt was halved before it converged.
 pub const HISTORY_COUNTS: [&str; 2] = ["solves", "cuts"];
 
+/// The text column history.csv has after `iterations` when the model has stages.
+pub const STAGE_COLUMN: &str = "stage";
+
+/// history.csv's header as a run of `model` writes it: `step,time`, the monitors'
+/// columns ([`history_columns`]), `iterations`, `stage` (with stages), [`HISTORY_COUNTS`].
+pub fn history_header(model: &Model) -> Vec<String> {
+    let mut cols = vec!["step".to_string(), "time".to_string()];
+    cols.extend(history_columns(model));
+    cols.push("iterations".into());
+    if !model.stages.is_empty() {
+        cols.push(STAGE_COLUMN.into());
+    }
+    cols.extend(HISTORY_COUNTS.iter().map(|c| c.to_string()));
+    cols
+}
+
 /// History columns after `step,time` and before `iterations`.
 pub fn history_columns(model: &Model) -> Vec<String> {
     let mut cols = Vec::new();
